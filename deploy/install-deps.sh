@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Installs everything Throng needs to build and test, from Debian bookworm packages only.
+# Idempotent: safe to run on every CI run and on a developer machine that already has them.
+set -euo pipefail
+
+PACKAGES=(
+  build-essential cmake ninja-build pkg-config git
+  libeigen3-dev        # linear algebra (FCL interop, validation references)
+  libfcl-dev           # fixed scenery: BVH broadphase + distance/penetration vs capsules
+  nlohmann-json3-dev   # scene, parameter-table and push-policy files
+  libcli11-dev         # command-line parsing with --help for every binary
+  libfmt-dev           # tables and reports
+  libxxhash-dev        # 64-bit per-tick state hash (XXH3)
+  libgtest-dev libgmock-dev  # unit/integration tests under ctest
+  libbenchmark-dev     # micro benchmarks
+)
+
+if [ "$(id -u)" -ne 0 ]; then SUDO=sudo; else SUDO=; fi
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#PACKAGES[@]} packages already installed"
+  exit 0
+fi
+echo "install-deps: installing ${missing[*]}"
+$SUDO apt-get update
+DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y --no-install-recommends "${missing[@]}"

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# The README's test command: installs dependencies, builds from scratch, runs every test.
+#   1. Release build (the one benchmarks use) + all tests.
+#   2. ASan+UBSan build + all tests (skipped with THRONG_SKIP_SANITIZE=1).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash deploy/install-deps.sh
+
+JOBS=${JOBS:-$(nproc)}
+run_suite() {  # $1 = build dir, rest = extra cmake args
+  local dir=$1; shift
+  echo "=== configure $dir $*"
+  cmake -S . -B "$dir" -G Ninja "$@"
+  echo "=== build $dir"
+  cmake --build "$dir" -j "$JOBS"
+  echo "=== test $dir"
+  (cd "$dir" && ctest --output-on-failure -j "$JOBS" --timeout 900)
+}
+
+run_suite build/release -DCMAKE_BUILD_TYPE=Release
+if [ "${THRONG_SKIP_SANITIZE:-0}" != "1" ]; then
+  # Sanitizers need frame pointers and a debug-friendly optimisation level to stay fast enough.
+  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    run_suite build/sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTHRONG_SANITIZE=address,undefined -DTHRONG_BUILD_BENCH=OFF
+fi
+echo "=== all test suites passed"
