@@ -1,0 +1,19 @@
+#pragma once
+// One resolved contact of a tick, as the publisher, the log and the viewer see it ("results as
+// arrays, not callbacks"). share_a is the fraction of the push that moved a (b moved 1 - share_a);
+// for a body against fixed scenery, b is the fixed object's id and share_a is 1 (or the soft share).
+#include <cstdint>
+
+#include "throng/core/object_id.h"
+
+namespace throng {
+
+struct PushEvent {
+  ObjectId a;
+  ObjectId b;
+  float depth_m = 0.0f;   // penetration at the start of the solve (after warm start)
+  float share_a = 0.0f;
+  float push_m = 0.0f;    // total push of the pair this tick
+};
+
+}  // namespace throng

@@ -1,0 +1,23 @@
+#pragma once
+// What one tick did: phase timings and solver figures, as plain numbers for logs, metrics and the
+// bench. Timings are measured with a steady clock and never feed back into the simulation.
+#include <cstdint>
+
+namespace throng {
+
+struct StepStats {
+  std::uint64_t tick = 0;
+  double move_us = 0.0;
+  double params_us = 0.0;
+  double broadphase_us = 0.0;
+  double solve_us = 0.0;
+  double total_us = 0.0;
+  std::uint32_t candidate_pairs = 0;   // pairs within r_a + r_b + margin
+  std::uint32_t scenery_planes = 0;    // body-vs-fixed separating planes built this tick
+  std::uint32_t iterations_used = 0;
+  std::uint32_t capped_bodies = 0;     // bodies that hit max_candidates_per_body
+  std::uint32_t tunnel_clamps = 0;     // fast moves shortened by the swept test
+  double max_pen_over_radius = 0.0;    // after the last iteration, over candidate pairs
+};
+
+}  // namespace throng

@@ -1,0 +1,94 @@
+#pragma once
+// The authoritative world: movable characters (kinematic upright capsules), fixed scenery, the
+// parameter table and the push policy, advanced one fixed tick at a time.
+//
+// Everything that changes the world between ticks goes through the setters below; they validate
+// their input (throwing std::invalid_argument with a clear message and changing nothing) and are
+// the single place the match log will record inputs from. step() is deterministic: the same
+// sequence of calls on the same binary gives a bit-identical state_hash() every tick.
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "throng/core/object_id.h"
+#include "throng/core/vec3.h"
+#include "throng/world/body_def.h"
+#include "throng/world/push_event.h"
+#include "throng/world/step_stats.h"
+#include "throng/world/world_settings.h"
+
+namespace throng::params {
+class ParamTable;
+class PushPolicy;
+class GroupTable;
+struct ObjectParams;
+enum class Param : std::uint8_t;
+}  // namespace throng::params
+
+namespace throng {
+
+class World {
+ public:
+  World(const WorldSettings& settings, const params::ParamTable& table, const params::PushPolicy& policy);
+  ~World();
+  World(World&&) noexcept;
+  World& operator=(World&&) noexcept;
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  // --- scenery (fixed bodies; never move) -----------------------------------------------------
+  ObjectId add_fixed_box(Vec3 centre, Vec3 half_extents_m, double yaw_rad, const std::string& archetype = "wall");
+  ObjectId add_fixed_cylinder(Vec3 centre, double radius_m, double half_height_m, const std::string& archetype = "wall");
+  ObjectId add_fixed_mesh(std::vector<Vec3> vertices, std::vector<std::array<std::uint32_t, 3>> triangles,
+                          const std::string& archetype = "wall");
+
+  // --- characters ------------------------------------------------------------------------------
+  ObjectId create_body(const BodyDef& def);
+  void destroy_body(ObjectId id);
+  bool is_body(ObjectId id) const;
+  bool is_fixed(ObjectId id) const;
+
+  // --- inputs of the tick ------------------------------------------------------------------------
+  void set_desired_velocity(ObjectId id, Vec3 velocity_mps);
+  void set_position(ObjectId id, Vec3 position);  // teleport (spawn points, ledges, tests)
+  void set_grounded(ObjectId id, bool grounded);
+  void set_param(ObjectId id, params::Param param, double value);
+  void set_policy(const params::PushPolicy& policy);
+  void set_group_base_morale(std::uint32_t group_id, double morale);
+  void set_cameras(std::span<const Vec3> camera_positions);
+  void set_iterations(std::uint32_t iterations);
+
+  // --- the tick ---------------------------------------------------------------------------------
+  const StepStats& step();
+
+  // --- read access ------------------------------------------------------------------------------
+  std::uint64_t tick() const;
+  std::uint64_t state_hash() const;
+  std::size_t body_count() const;
+  // Dense views in the world's internal order (stable between ticks unless bodies are created or
+  // destroyed); id_at() maps a dense index back to the id.
+  std::span<const double> pos_x() const;
+  std::span<const double> pos_y() const;
+  std::span<const double> pos_z() const;
+  std::span<const double> radius() const;
+  std::span<const double> half_height() const;
+  ObjectId id_at(std::size_t dense_index) const;
+  Vec3 position(ObjectId id) const;
+  Vec3 velocity(ObjectId id) const;  // actual velocity over the last tick
+  const params::ObjectParams& params(ObjectId id) const;
+  const params::PushPolicy& policy() const;
+  const params::GroupTable& groups() const;
+  const WorldSettings& settings() const;
+  std::span<const PushEvent> push_events() const;
+  // Fixed scenery access for metrics and tools (penetration of a capsule into scenery).
+  double scenery_max_penetration(std::size_t dense_index) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace throng

@@ -1,0 +1,36 @@
+#pragma once
+// Settings of a World, with units, defaults and valid ranges. validate() throws
+// std::invalid_argument naming the field, so a bad scene file or CLI flag fails loudly at load time
+// instead of producing NaNs mid-match.
+#include <cstdint>
+
+namespace throng {
+
+struct WorldSettings {
+  double dt_s = 1.0 / 60.0;              // fixed tick length [1e-4, 1]
+  std::uint32_t iterations = 8;          // solver iteration budget per tick [1, 256]
+  // Pairs closer than r_a + r_b + margin are kept as contact candidates for the whole tick, so that
+  // contacts created by pushes during the iterations are still seen. [0, 10] m
+  double contact_margin_m = 0.05;
+  // Early exit: stop iterating once no pair penetrates deeper than this fraction of the smaller
+  // radius. 0 = always use the full budget. [0, 1]
+  double converged_pen_over_radius = 1e-4;
+  // Fill push_events() every tick (the publisher, log and viewer read them). Benchmarks may turn it
+  // off to measure the solver alone.
+  bool record_push_events = true;
+  // Reuse last tick's per-pair push (warm starting). Off only for experiments/benchmarks.
+  bool warm_start = true;
+  // Cap on neighbour candidates examined per body and tick. A normal crowd never reaches it; it is
+  // what keeps the cost linear when thousands of bodies stand in one cell. [4, 4096]
+  std::uint32_t max_candidates_per_body = 48;
+  // Smallest broadphase cell edge. 0 = derive from the bodies (2 * (median radius + margin)). [0, 1000] m
+  double cell_size_m = 0.0;
+  // Radius of the neighbourhood counted for group morale, and how many ticks one full morale
+  // refresh is spread over (1/period of the bodies are recounted each tick). [0.1, 1000] m, [1, 3600]
+  double morale_radius_m = 5.0;
+  std::uint32_t morale_refresh_ticks = 15;
+
+  void validate() const;
+};
+
+}  // namespace throng

@@ -1,0 +1,145 @@
+#include "broadphase/hier_grid.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace throng::detail {
+namespace {
+
+constexpr std::uint64_t kRow = std::uint64_t{1} << 32;
+constexpr double kCellLimit = 1073741824.0;  // 2^30 cells each way from the origin
+
+std::int64_t cell_coord(double v, double inv_cell) {
+  const double c = std::floor(v * inv_cell);
+  return static_cast<std::int64_t>(std::clamp(c, -kCellLimit, kCellLimit));
+}
+
+std::uint64_t make_key(std::int64_t cx, std::int64_t cy) {
+  return (static_cast<std::uint64_t>(cy + (std::int64_t{1} << 31)) << 32) |
+         static_cast<std::uint64_t>(cx + (std::int64_t{1} << 31));
+}
+
+// The narrow candidate test: expanded circles in the plane, then the gap between the vertical
+// core segments. Pass-through bodies never collide: both masks must accept the other's group.
+inline bool is_candidate(const GridBodyView& v, std::uint32_t i, std::uint32_t j, double margin) {
+  const double dx = v.x[j] - v.x[i];
+  const double dy = v.y[j] - v.y[i];
+  const double reach = v.r[i] + v.r[j] + margin;
+  if (dx * dx + dy * dy >= reach * reach) return false;
+  const double gap_z = std::fabs(v.z[j] - v.z[i]) - v.hh[i] - v.hh[j];
+  if (gap_z >= reach) return false;
+  return (v.group[i] & v.mask[j]) != 0 && (v.group[j] & v.mask[i]) != 0;
+}
+
+}  // namespace
+
+std::uint64_t HierGrid::cell_key(double x, double y, double inv_cell) {
+  return make_key(cell_coord(x, inv_cell), cell_coord(y, inv_cell));
+}
+
+void HierGrid::build(const double* x, const double* y, const double* r, std::size_t n, double margin_m,
+                     double cell0_m) {
+  if (levels_.size() < kMaxLevels) levels_.resize(kMaxLevels);
+  level_of_.resize(n);
+  level_count_ = 1;
+  std::array<std::uint32_t, kMaxLevels> count{};
+  for (std::size_t i = 0; i < n; ++i) {
+    const double diameter = 2.0 * (r[i] + margin_m);
+    int l = 0;
+    double cell = cell0_m;
+    while (cell < diameter && l + 1 < kMaxLevels) { cell *= 2.0; ++l; }
+    level_of_[i] = static_cast<std::uint8_t>(l);
+    ++count[l];
+    level_count_ = std::max(level_count_, l + 1);
+  }
+  order_.resize(n);
+  std::uint32_t offset = 0;
+  double cell = cell0_m;
+  for (int l = 0; l < level_count_; ++l) {
+    Level& lv = levels_[l];
+    lv.cell_m = cell;
+    lv.max_reach_m = 0.0;
+    lv.begin = offset;
+    lv.end = offset + count[l];
+    lv.cells.clear();
+    offset = lv.end;
+    cell *= 2.0;
+  }
+  // Sort each level by cell key. Items keep the dense order for equal keys (stable sort), so the
+  // result depends only on positions and the dense order.
+  for (int l = 0; l < level_count_; ++l) {
+    Level& lv = levels_[l];
+    if (lv.begin == lv.end) continue;
+    const double inv = 1.0 / lv.cell_m;
+    items_.clear();
+    for (std::size_t i = 0; i < n; ++i) {
+      if (level_of_[i] != l) continue;
+      items_.push_back({cell_key(x[i], y[i], inv), static_cast<std::uint32_t>(i)});
+      lv.max_reach_m = std::max(lv.max_reach_m, r[i] + margin_m);
+    }
+    radix_sort(items_, scratch_);
+    std::uint32_t s = lv.begin;
+    for (std::size_t k = 0; k < items_.size(); ++k, ++s) {
+      order_[s] = items_[k].index;
+      if (lv.cells.empty() || lv.cells.back().key != items_[k].key) lv.cells.push_back({items_[k].key, s, s});
+      lv.cells.back().end = s + 1;
+    }
+  }
+}
+
+std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::uint32_t max_candidates,
+                                   std::vector<CandidatePair>& out) const {
+  std::uint32_t capped = 0;
+  for (int l = 0; l < level_count_; ++l) {
+    const std::vector<Cell>& cells = levels_[l].cells;
+    std::size_t up = 0;  // first cell at or after (cx - 1, cy + 1); only moves forward
+    for (std::size_t k = 0; k < cells.size(); ++k) {
+      const Cell& c = cells[k];
+      const std::uint64_t up_lo = c.key + kRow - 1, up_hi = c.key + kRow + 1;
+      while (up < cells.size() && cells[up].key < up_lo) ++up;
+      const Cell* right = (k + 1 < cells.size() && cells[k + 1].key == c.key + 1) ? &cells[k + 1] : nullptr;
+      for (std::uint32_t i = c.begin; i < c.end; ++i) {
+        std::uint32_t budget = max_candidates;
+        auto scan = [&](std::uint32_t from, std::uint32_t to) {
+          for (std::uint32_t j = from; j < to && budget > 0; ++j, --budget) {
+            if (is_candidate(v, i, j, margin)) out.push_back({i, j});
+          }
+        };
+        scan(i + 1, c.end);
+        if (right) scan(right->begin, right->end);
+        for (std::size_t q = up; q < cells.size() && cells[q].key <= up_hi; ++q) scan(cells[q].begin, cells[q].end);
+        if (budget == 0) ++capped;
+      }
+    }
+  }
+  // Cross-level pairs: each body of a coarser level queries the finer levels over its box.
+  for (int l = 1; l < level_count_; ++l) {
+    const Level& lv = levels_[l];
+    for (std::uint32_t i = lv.begin; i < lv.end; ++i) {
+      std::uint32_t budget = max_candidates * 4;  // a giant legitimately touches many small bodies
+      for (int m = 0; m < l; ++m) {
+        const Level& fine = levels_[m];
+        if (fine.cells.empty()) continue;
+        const double reach = v.r[i] + fine.max_reach_m;
+        const double inv = 1.0 / fine.cell_m;
+        const std::int64_t cx0 = cell_coord(v.x[i] - reach, inv), cx1 = cell_coord(v.x[i] + reach, inv);
+        const std::int64_t cy0 = cell_coord(v.y[i] - reach, inv), cy1 = cell_coord(v.y[i] + reach, inv);
+        for (std::int64_t cy = cy0; cy <= cy1 && budget > 0; ++cy) {
+          const std::uint64_t lo = make_key(cx0, cy), hi = make_key(cx1, cy);
+          auto it = std::lower_bound(fine.cells.begin(), fine.cells.end(), lo,
+                                     [](const Cell& cell, std::uint64_t key) { return cell.key < key; });
+          for (; it != fine.cells.end() && it->key <= hi && budget > 0; ++it) {
+            for (std::uint32_t j = it->begin; j < it->end && budget > 0; ++j, --budget) {
+              if (is_candidate(v, i, j, margin)) out.push_back({i, j});
+            }
+          }
+        }
+      }
+      if (budget == 0) ++capped;
+    }
+  }
+  return capped;
+}
+
+}  // namespace throng::detail

@@ -1,0 +1,28 @@
+#pragma once
+// The iterative projection solver (the patent's extrusion process, FIG. 9 steps S7-S11, repeated):
+// every overlapping pair is pushed apart at its share point and every body is pushed out of all its
+// fixed-body planes, sweep after sweep, until nothing intrudes or the iteration budget ends.
+#include <cstdint>
+#include <vector>
+
+#include "solver/solver_data.h"
+
+namespace throng::detail {
+
+struct SolveResult {
+  std::uint32_t iterations_used = 0;
+  double max_pen_over_radius = 0.0;  // deepest pair or plane seen in the last sweep
+};
+
+// Applies each pair's warm-start push (pair.lambda from the previous tick) along the current normal.
+void apply_warm_start(SolverBodies& bodies, const std::vector<SolverPair>& pairs);
+
+// Records each pair's and plane's penetration at the start of the solve (for push events).
+void measure_start_depths(const SolverBodies& bodies, std::vector<SolverPair>& pairs, std::vector<SolverPlane>& planes);
+
+// Sweeps alternate direction (symmetric Gauss-Seidel) so a push travels through a packed crowd in
+// both directions within two sweeps, instead of one body per sweep against the order.
+SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
+                           std::uint32_t iterations, double converged_pen_over_radius);
+
+}  // namespace throng::detail

@@ -1,0 +1,44 @@
+#pragma once
+// The solver's working set for one tick, in broadphase (spatial) order: bodies gathered from the
+// world's dense arrays, candidate pairs with their push share and accumulated push, and the
+// separating planes against fixed scenery. Reused between ticks: no allocation after warm-up.
+#include <cstdint>
+#include <vector>
+
+#include "throng/core/object_id.h"
+
+namespace throng::detail {
+
+struct SolverBodies {
+  std::vector<double> x, y, z, r, hh;
+  std::vector<std::uint8_t> grounded;
+  std::vector<std::uint32_t> plane_begin, plane_count;  // range in SolverPlanes
+  std::vector<std::uint32_t> id;                        // ObjectId value (tie-breaks, directions)
+
+  void resize(std::size_t n) {
+    x.resize(n); y.resize(n); z.resize(n); r.resize(n); hh.resize(n);
+    grounded.resize(n); plane_begin.resize(n); plane_count.resize(n); id.resize(n);
+  }
+  std::size_t size() const { return x.size(); }
+};
+
+struct SolverPair {
+  std::uint32_t a, b;     // solver indices
+  double share_a;         // fraction of each push that moves a; b moves 1 - share_a
+  double lambda;          // accumulated push this tick [m] (warm-started from last tick)
+  double depth_start;     // penetration when the solve started [m], for push events
+};
+
+// A fixed body's separating plane for one movable body (the patent's virtual plane): the body must
+// satisfy dot(n, p) >= offset. Soft fixed bodies get an offset that allows part of the current
+// depth to remain this tick, so the mover sinks in and is pushed out over several ticks.
+struct SolverPlane {
+  double nx, ny, nz;
+  double offset;
+  double depth_start;
+  double share;           // soft share of this tick (1 for rigid)
+  std::uint32_t body;     // solver index
+  ObjectId fixed;
+};
+
+}  // namespace throng::detail

@@ -1,0 +1,143 @@
+// Fixed scenery inside the tick: which bodies are near it, their separating planes (the patent's
+// virtual planes against fixed bodies, including soft ones), and a last check after the solve.
+#include <algorithm>
+#include <cmath>
+
+#include "throng/params/soft_push.h"
+#include "world/world_impl.h"
+
+namespace throng {
+namespace {
+
+std::uint64_t scenery_cell_key(double x, double y, double inv_cell) {
+  const auto cx = static_cast<std::int64_t>(std::clamp(std::floor(x * inv_cell), -1e9, 1e9));
+  const auto cy = static_cast<std::int64_t>(std::clamp(std::floor(y * inv_cell), -1e9, 1e9));
+  return (static_cast<std::uint64_t>(cy + (std::int64_t{1} << 31)) << 32) |
+         static_cast<std::uint64_t>(cx + (std::int64_t{1} << 31));
+}
+
+geom::Capsule body_capsule(double x, double y, double z, double hh, double r) {
+  return geom::Capsule{{x, y, z - hh}, {x, y, z + hh}, r};
+}
+
+}  // namespace
+
+// Cells (scenery_cell_m square) that lie within reach of any fixed shape. Only bodies standing in
+// such a cell are queried against FCL, so a crowd in an open field pays nothing for the scenery.
+void World::Impl::rebuild_scenery_cells() {
+  if (scenery_dirty) scenery.build();
+  scenery_dirty = false;
+  scenery_cells.clear();
+  // Reach: a body's radius and margin plus one metre of travel within a tick; recomputed whenever
+  // a larger body appears (see step()).
+  const double reach = max_body_reach_m + 1.0;
+  scenery_reach_m = reach;
+  const double inv = 1.0 / scenery_cell_m;
+  for (std::uint32_t s = 0; s < scenery.size(); ++s) {
+    const geom::Aabb box = scenery.aabb(s);
+    const double x0 = std::floor((box.lo.x - reach) * inv), x1 = std::floor((box.hi.x + reach) * inv);
+    const double y0 = std::floor((box.lo.y - reach) * inv), y1 = std::floor((box.hi.y + reach) * inv);
+    for (double cy = y0; cy <= y1; cy += 1.0) {
+      for (double cx = x0; cx <= x1; cx += 1.0) {
+        scenery_cells.push_back(scenery_cell_key((cx + 0.5) * scenery_cell_m, (cy + 0.5) * scenery_cell_m, inv));
+      }
+    }
+  }
+  std::sort(scenery_cells.begin(), scenery_cells.end());
+  scenery_cells.erase(std::unique(scenery_cells.begin(), scenery_cells.end()), scenery_cells.end());
+}
+
+bool World::Impl::near_scenery(double x, double y) const {
+  if (scenery_cells.empty()) return false;
+  return std::binary_search(scenery_cells.begin(), scenery_cells.end(), scenery_cell_key(x, y, 1.0 / scenery_cell_m));
+}
+
+void World::Impl::build_scenery_planes() {
+  planes.clear();
+  const std::size_t n = sb.size();
+  std::fill(sb.plane_count.begin(), sb.plane_count.end(), 0u);
+  if (scenery.size() == 0) return;
+  const double margin = settings.contact_margin_m;
+  for (std::size_t s = 0; s < n; ++s) {
+    sb.plane_begin[s] = static_cast<std::uint32_t>(planes.size());
+    if (!near_scenery(sb.x[s], sb.y[s])) continue;
+    contacts.clear();
+    // Inflated by the margin so a wall the crowd may push this body into is already a plane.
+    scenery.query(body_capsule(sb.x[s], sb.y[s], sb.z[s], sb.hh[s], sb.r[s] + margin), contacts);
+    for (const geom::SceneryContact& c : contacts) {
+      const double depth = c.depth - margin;  // > 0: penetrating now
+      const double dot_now = c.normal.x * sb.x[s] + c.normal.y * sb.y[s] + c.normal.z * sb.z[s];
+      double share = 1.0;
+      double offset = dot_now + depth;
+      const double softness = fixed_params[c.shape].softness;
+      if (softness > 0.0 && depth > 0.0) {
+        // Soft fixed body (FIG. 10): only a depth-dependent share of the depth is removed this tick.
+        share = params::soft_push_share(softness, depth, sb.r[s]);
+        offset -= depth * (1.0 - share);
+      }
+      planes.push_back({c.normal.x, c.normal.y, c.normal.z, offset, 0.0, share, static_cast<std::uint32_t>(s),
+                        fixed_ids[c.shape]});
+    }
+    sb.plane_count[s] = static_cast<std::uint32_t>(planes.size()) - sb.plane_begin[s];
+  }
+  stats.scenery_planes = static_cast<std::uint32_t>(planes.size());
+}
+
+// Planes are linearised at the start of the solve; a body that had none (it was not near a wall)
+// but was pushed far during the solve, or sits at a corner the planes only approximate, is checked
+// against the real shapes once more and pushed out fully. Soft bodies are left to their planes.
+void World::Impl::verify_scenery_after_solve() {
+  if (scenery.size() == 0) return;
+  const std::size_t n = bodies.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!near_scenery(bodies.x[i], bodies.y[i])) continue;
+    contacts.clear();
+    // Sweep from the tick's start so that a solve push cannot carry a body through a thin wall.
+    const double dx = bodies.x[i] - start_x[i], dy = bodies.y[i] - start_y[i], dz = bodies.z[i] - start_z[i];
+    const double half_r = 0.5 * bodies.r[i];
+    if (dx * dx + dy * dy + dz * dz > half_r * half_r) {
+      const geom::Capsule from = body_capsule(start_x[i], start_y[i], start_z[i], bodies.hh[i], bodies.r[i]);
+      const double frac = scenery.first_hit_fraction(from, {dx, dy, dz});
+      if (frac < 1.0) {
+        bodies.x[i] = start_x[i] + dx * frac;
+        bodies.y[i] = start_y[i] + dy * frac;
+        bodies.z[i] = start_z[i] + dz * frac;
+        ++stats.tunnel_clamps;
+      }
+    }
+    scenery.query(body_capsule(bodies.x[i], bodies.y[i], bodies.z[i], bodies.hh[i], bodies.r[i]), contacts);
+    for (const geom::SceneryContact& c : contacts) {
+      if (fixed_params[c.shape].softness > 0.0) continue;
+      double nx = c.normal.x, ny = c.normal.y, nz = c.normal.z, d = c.depth;
+      if (bodies.grounded[i]) {
+        const double h2 = nx * nx + ny * ny;
+        if (h2 < 0.09) continue;
+        d /= std::sqrt(h2);
+        const double h = std::sqrt(h2);
+        nx /= h; ny /= h; nz = 0.0;
+      }
+      bodies.x[i] += nx * d;
+      bodies.y[i] += ny * d;
+      bodies.z[i] += nz * d;
+    }
+  }
+}
+
+double World::scenery_max_penetration(std::size_t dense_index) const {
+  const Impl& w = *impl_;
+  if (w.scenery.size() == 0) return 0.0;
+  std::vector<geom::SceneryContact> found;
+  const detail::BodyStore& b = w.bodies;
+  w.scenery.query(body_capsule(b.x.at(dense_index), b.y[dense_index], b.z[dense_index], b.hh[dense_index],
+                               b.r[dense_index]),
+                  found);
+  double worst = 0.0;
+  for (const geom::SceneryContact& c : found) {
+    // Soft bodies are meant to be sunk into (up to their maximum sink); they are not residual error.
+    if (w.fixed_params[c.shape].softness > 0.0) continue;
+    worst = std::max(worst, c.depth);
+  }
+  return worst;
+}
+
+}  // namespace throng

@@ -1,0 +1,196 @@
+// The tick: a short list of named phases, each timed.
+//   dynamic parameters -> push coefficients -> move -> broadphase -> scenery planes -> solve ->
+//   warm-start cache and push events -> actual velocities.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "solver/contact_solver.h"
+#include "world/world_impl.h"
+
+namespace throng {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double micros_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+}
+
+}  // namespace
+
+const StepStats& World::step() {
+  Impl& w = *impl_;
+  const auto t0 = Clock::now();
+  w.stats = StepStats{};
+  w.stats.tick = w.tick + 1;
+  if (w.scenery_dirty || (w.scenery.size() > 0 && w.max_body_reach_m + 1.0 > w.scenery_reach_m)) {
+    w.rebuild_scenery_cells();
+  }
+
+  auto t = Clock::now();
+  w.update_dynamic_params();
+  w.refresh_coefficients();
+  w.stats.params_us = micros_since(t);
+
+  t = Clock::now();
+  w.move_bodies();
+  w.stats.move_us = micros_since(t);
+
+  t = Clock::now();
+  w.build_pairs();
+  w.stats.broadphase_us = micros_since(t);
+
+  t = Clock::now();
+  w.build_scenery_planes();
+  w.solve();
+  w.store_warm_start_and_events();
+  w.stats.solve_us = micros_since(t);
+
+  w.finish_tick();
+  w.stats.total_us = micros_since(t0);
+  return w.stats;
+}
+
+void World::Impl::move_bodies() {
+  const std::size_t n = bodies.size();
+  start_x.assign(bodies.x.begin(), bodies.x.end());
+  start_y.assign(bodies.y.begin(), bodies.y.end());
+  start_z.assign(bodies.z.begin(), bodies.z.end());
+  const double dt = settings.dt_s;
+  const bool has_scenery = scenery.size() > 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double dx = bodies.vx[i] * dt, dy = bodies.vy[i] * dt;
+    const double dz = bodies.grounded[i] ? 0.0 : bodies.vz[i] * dt;
+    double frac = 1.0;
+    // A move longer than half a radius could step over a thin wall in one tick (a charging horse):
+    // sweep it against the scenery and stop at the first contact.
+    const double half_r = 0.5 * bodies.r[i];
+    if (has_scenery && dx * dx + dy * dy + dz * dz > half_r * half_r) {
+      const geom::Capsule cap{{bodies.x[i], bodies.y[i], bodies.z[i] - bodies.hh[i]},
+                              {bodies.x[i], bodies.y[i], bodies.z[i] + bodies.hh[i]},
+                              bodies.r[i]};
+      frac = scenery.first_hit_fraction(cap, {dx, dy, dz});
+      if (frac < 1.0) ++stats.tunnel_clamps;
+    }
+    bodies.x[i] += dx * frac;
+    bodies.y[i] += dy * frac;
+    bodies.z[i] += dz * frac;
+  }
+}
+
+double World::Impl::cell0_size() {
+  if (settings.cell_size_m > 0.0) return settings.cell_size_m;
+  // Finest cell = diameter of the median body plus margin: most bodies land on level 0 and test
+  // only their 3x3 neighbourhood; bigger bodies go to coarser levels.
+  median_scratch.assign(bodies.r.begin(), bodies.r.end());
+  if (median_scratch.empty()) return 1.0;
+  auto mid = median_scratch.begin() + static_cast<std::ptrdiff_t>(median_scratch.size() / 2);
+  std::nth_element(median_scratch.begin(), mid, median_scratch.end());
+  return 2.0 * (*mid + settings.contact_margin_m);
+}
+
+void World::Impl::build_pairs() {
+  const std::size_t n = bodies.size();
+  const double margin = settings.contact_margin_m;
+  grid.build(bodies.x.data(), bodies.y.data(), bodies.r.data(), n, margin, cell0_size());
+  const std::vector<std::uint32_t>& order = grid.order();
+  sb.resize(n);
+  sgroup.resize(n);
+  smask.resize(n);
+  for (std::size_t s = 0; s < n; ++s) {
+    const std::uint32_t i = order[s];
+    sb.x[s] = bodies.x[i]; sb.y[s] = bodies.y[i]; sb.z[s] = bodies.z[i];
+    sb.r[s] = bodies.r[i]; sb.hh[s] = bodies.hh[i];
+    sb.grounded[s] = bodies.grounded[i];
+    sb.id[s] = bodies.id[i].value;
+    sgroup[s] = bodies.group[i];
+    smask[s] = bodies.mask[i];
+  }
+  candidates.clear();
+  const detail::GridBodyView view{sb.x.data(), sb.y.data(), sb.z.data(), sb.r.data(), sb.hh.data(),
+                                  sgroup.data(), smask.data()};
+  stats.capped_bodies = grid.find_pairs(view, margin, settings.max_candidates_per_body, candidates);
+  stats.candidate_pairs = static_cast<std::uint32_t>(candidates.size());
+
+  pairs.resize(candidates.size());
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    const std::uint32_t a = candidates[k].a, b = candidates[k].b;
+    const std::uint32_t da = order[a], db = order[b];
+    detail::SolverPair& p = pairs[k];
+    p.a = a;
+    p.b = b;
+    double nx = sb.x[b] - sb.x[a], ny = sb.y[b] - sb.y[a];
+    const double d = std::sqrt(nx * nx + ny * ny);
+    if (d > 0.0) { nx /= d; ny /= d; }
+    p.share_a = pair_share(da, db, nx, ny);
+    p.lambda = 0.0;
+    p.depth_start = 0.0;
+    if (settings.warm_start) {
+      // The body with the smaller id keeps the pair's push from last tick.
+      const bool a_owns = sb.id[a] < sb.id[b];
+      const std::uint32_t owner = a_owns ? da : db;
+      const std::uint32_t partner = a_owns ? sb.id[b] : sb.id[a];
+      const detail::WarmEntry* e = &bodies.warm[owner * detail::kWarmSlots];
+      for (std::uint32_t q = 0; q < bodies.warm_count[owner]; ++q) {
+        if (e[q].partner == partner) { p.lambda = e[q].lambda; break; }
+      }
+    }
+  }
+}
+
+void World::Impl::solve() {
+  const std::size_t n = sb.size();
+  if (settings.warm_start) detail::apply_warm_start(sb, pairs);
+  if (settings.record_push_events) detail::measure_start_depths(sb, pairs, planes);
+  const detail::SolveResult r =
+      detail::solve_contacts(sb, pairs, planes, settings.iterations, settings.converged_pen_over_radius);
+  stats.iterations_used = r.iterations_used;
+  stats.max_pen_over_radius = r.max_pen_over_radius;
+  const std::vector<std::uint32_t>& order = grid.order();
+  for (std::size_t s = 0; s < n; ++s) {
+    const std::uint32_t i = order[s];
+    bodies.x[i] = sb.x[s];
+    bodies.y[i] = sb.y[s];
+    bodies.z[i] = sb.z[s];
+  }
+  verify_scenery_after_solve();
+}
+
+void World::Impl::store_warm_start_and_events() {
+  std::fill(bodies.warm_count.begin(), bodies.warm_count.end(), 0);
+  events.clear();
+  const std::vector<std::uint32_t>& order = grid.order();
+  for (const detail::SolverPair& p : pairs) {
+    if (p.lambda <= 0.0) continue;
+    const bool a_owns = sb.id[p.a] < sb.id[p.b];
+    const std::uint32_t owner = order[a_owns ? p.a : p.b];
+    std::uint8_t& count = bodies.warm_count[owner];
+    if (count < detail::kWarmSlots) {
+      bodies.warm[owner * detail::kWarmSlots + count] = {a_owns ? sb.id[p.b] : sb.id[p.a], p.lambda};
+      ++count;
+    }
+    if (settings.record_push_events) {
+      events.push_back({ObjectId{sb.id[p.a]}, ObjectId{sb.id[p.b]}, static_cast<float>(p.depth_start),
+                        static_cast<float>(p.share_a), static_cast<float>(p.lambda)});
+    }
+  }
+  if (settings.record_push_events) {
+    for (const detail::SolverPlane& pl : planes) {
+      if (pl.depth_start <= 0.0) continue;
+      events.push_back({ObjectId{sb.id[pl.body]}, pl.fixed, static_cast<float>(pl.depth_start),
+                        static_cast<float>(pl.share), static_cast<float>(pl.depth_start * pl.share)});
+    }
+  }
+}
+
+void World::Impl::finish_tick() {
+  const double inv_dt = 1.0 / settings.dt_s;
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    bodies.ax[i] = (bodies.x[i] - start_x[i]) * inv_dt;
+    bodies.ay[i] = (bodies.y[i] - start_y[i]) * inv_dt;
+    bodies.az[i] = (bodies.z[i] - start_z[i]) * inv_dt;
+  }
+  ++tick;
+}
+
+}  // namespace throng

@@ -1,0 +1,192 @@
+// Hard cases for the solver. Each ends with no NaN, bounded cost (candidate pairs and iterations
+// never exceed their caps) and bounded residual penetration, checked by brute force here rather
+// than by the solver's own figures.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "world/world_fixtures.h"
+
+namespace throng {
+namespace {
+
+using namespace throng::test;
+
+struct Residual {
+  double max_pen_over_radius = 0.0;
+  std::size_t nan_count = 0;
+};
+
+// O(N^2) reference: fine for the few thousand bodies these tests use.
+Residual brute_force_residual(const World& w) {
+  Residual res;
+  const auto x = w.pos_x(), y = w.pos_y(), z = w.pos_z(), r = w.radius(), hh = w.half_height();
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (!std::isfinite(x[i]) || !std::isfinite(y[i]) || !std::isfinite(z[i])) ++res.nan_count;
+    for (std::size_t j = i + 1; j < x.size(); ++j) {
+      const double gap = std::max(0.0, std::fabs(z[j] - z[i]) - hh[i] - hh[j]);
+      const double d = std::sqrt((x[j] - x[i]) * (x[j] - x[i]) + (y[j] - y[i]) * (y[j] - y[i]) + gap * gap);
+      const double pen = std::max(0.0, r[i] + r[j] - d) / std::min(r[i], r[j]);
+      res.max_pen_over_radius = std::max(res.max_pen_over_radius, pen);
+    }
+  }
+  return res;
+}
+
+WorldSettings budget(std::uint32_t iterations) {
+  WorldSettings s;
+  s.iterations = iterations;
+  return s;
+}
+
+TEST(WorldHardCases, TenThousandAgentsStartedAtOnePoint) {
+  WorldSettings s = budget(8);
+  s.record_push_events = false;
+  World w(s, test_table(), weight_policy(params::PushMode::ratio, 100.0));
+  for (int i = 0; i < 10000; ++i) add_sphere(w, 0.0, 0.0);
+  std::uint32_t max_pairs = 0;
+  for (int t = 0; t < 200; ++t) {
+    const StepStats& st = w.step();
+    max_pairs = std::max(max_pairs, st.candidate_pairs);
+    ASSERT_LE(st.iterations_used, 8u);
+  }
+  // Cost stays linear: never more candidates than bodies * cap (the whole pile is one cell).
+  EXPECT_LE(max_pairs, 10000u * s.max_candidates_per_body);
+  // The pile spreads: nobody is left at the origin, no NaN, and the overlap has come down from
+  // 2r (coincident) to a packed crowd.
+  std::size_t at_origin = 0;
+  for (std::size_t i = 0; i < w.body_count(); ++i) {
+    if (std::hypot(w.pos_x()[i], w.pos_y()[i]) < 1e-6) ++at_origin;
+  }
+  EXPECT_EQ(at_origin, 0u);
+  double max_r2 = 0.0;
+  for (std::size_t i = 0; i < w.body_count(); ++i) max_r2 = std::max(max_r2, w.pos_x()[i] * w.pos_x()[i] + w.pos_y()[i] * w.pos_y()[i]);
+  EXPECT_GT(std::sqrt(max_r2), 0.35 * std::sqrt(10000.0) * 0.5);  // spread at least to a packed disk's scale
+  const StepStats& last = w.step();
+  EXPECT_LT(last.max_pen_over_radius, 2.0);
+  for (double v : w.pos_x()) ASSERT_TRUE(std::isfinite(v));
+}
+
+TEST(WorldHardCases, CrowdSqueezedBetweenTwoWalls) {
+  World w(budget(16), test_table(), weight_policy(params::PushMode::ratio, 100.0));
+  w.add_fixed_box({0.0, -2.0, 1.0}, {30.0, 0.25, 1.0}, 0.0);  // walls at y = -1.75 and y = +1.75
+  w.add_fixed_box({0.0, 2.0, 1.0}, {30.0, 0.25, 1.0}, 0.0);
+  std::vector<ObjectId> ids;
+  for (int i = 0; i < 200; ++i) ids.push_back(add_sphere(w, -10.0 + 0.1 * i, -1.4 + 0.014 * (i % 200)));
+  for (int t = 0; t < 300; ++t) {
+    for (std::size_t i = 0; i < ids.size(); ++i) w.set_desired_velocity(ids[i], {i % 2 ? 1.0 : -1.0, (i % 3) - 1.0, 0.0});
+    w.step();
+  }
+  double static_pen = 0.0;
+  for (std::size_t i = 0; i < w.body_count(); ++i) static_pen = std::max(static_pen, w.scenery_max_penetration(i));
+  EXPECT_LE(static_pen, 1e-6);  // walls always win
+  for (std::size_t i = 0; i < w.body_count(); ++i) {
+    EXPECT_GE(w.pos_y()[i], -1.75 + 0.35 - 1e-6);
+    EXPECT_LE(w.pos_y()[i], 1.75 - 0.35 + 1e-6);
+  }
+  const Residual res = brute_force_residual(w);
+  EXPECT_EQ(res.nan_count, 0u);
+  EXPECT_LT(res.max_pen_over_radius, 0.25);
+}
+
+TEST(WorldHardCases, AgentPinnedBetweenWallAndHeavyPusher) {
+  World w(budget(8), test_table(), weight_policy(params::PushMode::ratio, 10.0));  // 200 vs 80 kg: share 1 - 6e-6
+  w.add_fixed_box({-1.0, 0.0, 1.0}, {1.0, 5.0, 1.0}, 0.0);  // wall face at x = 0
+  const ObjectId pinned = add_sphere(w, 0.35, 0.0, 0.35, "infantry");
+  const ObjectId heavy = add_sphere(w, 1.0, 0.0, 0.35, "heavy");
+  for (int t = 0; t < 120; ++t) {
+    w.set_desired_velocity(heavy, {-1.5, 0.0, 0.0});
+    w.step();
+    ASSERT_GE(w.position(pinned).x, 0.35 - 1e-9) << "tick " << t;  // never inside the wall
+  }
+  // The heavy pusher is stopped by the pinned body, which the wall backs up.
+  EXPECT_NEAR(w.position(heavy).x - w.position(pinned).x, 0.7, 1e-6);
+}
+
+TEST(WorldHardCases, HugePenetrationDeeperThanARadius) {
+  World w(budget(8), test_table(), weight_policy(params::PushMode::ratio, 100.0));
+  const ObjectId a = add_sphere(w, 0.0, 0.0, 1.0);
+  const ObjectId b = add_sphere(w, 0.05, 0.0, 1.0);  // 1.95 deep
+  w.step();
+  EXPECT_NEAR(distance_xy(w.position(a), w.position(b)), 2.0, 1e-9);
+  EXPECT_LT(w.position(a).x, 0.0);  // pushed apart along the original line, not flipped
+  EXPECT_GT(w.position(b).x, 0.05);
+}
+
+TEST(WorldHardCases, TinyAndHugeRadiiInOneScene) {
+  World w(budget(16), test_table(), weight_policy(params::PushMode::ratio, 100.0));
+  add_sphere(w, 0.0, 0.0, 10.0);
+  for (int i = 0; i < 50; ++i) add_sphere(w, 9.0 + 0.0005 * i, 0.001 * i, 1e-3);
+  for (int i = 0; i < 50; ++i) add_sphere(w, 0.02 * i, 12.0, 1e-3);
+  for (int t = 0; t < 60; ++t) w.step();
+  const Residual res = brute_force_residual(w);
+  EXPECT_EQ(res.nan_count, 0u);
+  EXPECT_LT(res.max_pen_over_radius, 0.05);
+}
+
+TEST(WorldHardCases, TenKilometresFromTheOrigin) {
+  World w(budget(8), test_table(), weight_policy(params::PushMode::ratio, 100.0));
+  const double far = 10000.0;
+  const ObjectId a = add_sphere(w, far, far, 1e-3);
+  const ObjectId b = add_sphere(w, far + 1.5e-3, far, 1e-3);
+  w.step();
+  EXPECT_NEAR(distance_xy(w.position(a), w.position(b)), 2e-3, 1e-9);  // 1 um at 10 km
+}
+
+TEST(WorldHardCases, ChargingHorseDoesNotTunnelThroughThinWall) {
+  World w(budget(8), test_table(), weight_policy(params::PushMode::ratio, 100.0));
+  w.add_fixed_box({0.0, 0.0, 1.5}, {0.025, 10.0, 1.5}, 0.0);  // 5 cm thick wall at x = 0
+  BodyDef horse;
+  horse.position = {-1.0, 0.0, 1.3};
+  horse.radius_m = 0.7;
+  horse.half_height_m = 0.6;
+  horse.archetype = "heavy";
+  const ObjectId h = w.create_body(horse);
+  for (int t = 0; t < 30; ++t) {
+    w.set_desired_velocity(h, {120.0, 0.0, 0.0});  // 2 m per tick at 60 Hz: speed*dt >> radius
+    w.step();
+    ASSERT_LE(w.position(h).x, -0.025 - 0.7 + 1e-6) << "tick " << t;
+  }
+}
+
+TEST(WorldHardCases, NonFiniteInputIsRejectedAndChangesNothing) {
+  World w(budget(8), test_table(), weight_policy(params::PushMode::ratio, 100.0));
+  const ObjectId a = add_sphere(w, 0.0, 0.0);
+  const std::uint64_t before = w.state_hash();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(w.set_desired_velocity(a, {nan, 0.0, 0.0}), std::invalid_argument);
+  EXPECT_THROW(w.set_desired_velocity(a, {0.0, inf, 0.0}), std::invalid_argument);
+  EXPECT_THROW(w.set_position(a, {0.0, 0.0, nan}), std::invalid_argument);
+  EXPECT_THROW(w.set_param(a, params::Param::weight_kg, nan), std::invalid_argument);
+  EXPECT_THROW(w.set_param(a, params::Param::softness, 2.0), std::invalid_argument);
+  BodyDef bad;
+  bad.position = {inf, 0.0, 0.0};
+  EXPECT_THROW(w.create_body(bad), std::invalid_argument);
+  bad.position = {0.0, 0.0, 0.0};
+  bad.radius_m = -1.0;
+  EXPECT_THROW(w.create_body(bad), std::invalid_argument);
+  bad.radius_m = 0.35;
+  bad.archetype = "no_such_archetype";
+  EXPECT_THROW(w.create_body(bad), std::invalid_argument);
+  EXPECT_THROW(w.set_desired_velocity(ObjectId{12345}, {0.0, 0.0, 0.0}), std::invalid_argument);
+  EXPECT_EQ(w.body_count(), 1u);
+  EXPECT_EQ(w.state_hash(), before);
+}
+
+TEST(WorldHardCases, StaleIdsAreRejected) {
+  World w(budget(8), test_table(), weight_policy(params::PushMode::ratio, 100.0));
+  const ObjectId a = add_sphere(w, 0.0, 0.0);
+  w.destroy_body(a);
+  const ObjectId b = add_sphere(w, 1.0, 0.0);  // reuses a's slot with a new generation
+  EXPECT_EQ(a.index(), b.index());
+  EXPECT_NE(a, b);
+  EXPECT_THROW(w.position(a), std::invalid_argument);
+  EXPECT_EQ(w.position(b).x, 1.0);
+}
+
+}  // namespace
+}  // namespace throng
