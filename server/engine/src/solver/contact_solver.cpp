@@ -32,14 +32,21 @@ inline double pinned_share(const SolverBodies& b, const std::vector<SolverPlane>
   return p.share_a;
 }
 
+// Warm-start pushes above this fraction of the smaller radius are cut back (see apply_warm_start).
+constexpr double kWarmStartCapOverRadius = 0.5;
+
 }  // namespace
 
-void apply_warm_start(SolverBodies& b, const std::vector<SolverPair>& pairs) {
-  for (const SolverPair& p : pairs) {
+void apply_warm_start(SolverBodies& b, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes) {
+  for (SolverPair& p : pairs) {
     if (p.lambda == 0.0) continue;
+    // Last tick's push is a guess, not a fact: cap it so that a pair whose push kept being undone
+    // by something else (a wall) cannot accumulate a push larger than the bodies themselves.
+    p.lambda = std::min(p.lambda, kWarmStartCapOverRadius * std::min(b.r[p.a], b.r[p.b]));
     double nx, ny;
     pair_direction(b, p, nx, ny);
-    const double move_a = p.lambda * p.share_a;
+    // Same split as the solve itself, including bodies pinned against fixed planes.
+    const double move_a = p.lambda * pinned_share(b, planes, p);
     const double move_b = p.lambda - move_a;
     b.x[p.a] -= nx * move_a; b.y[p.a] -= ny * move_a;
     b.x[p.b] += nx * move_b; b.y[p.b] += ny * move_b;

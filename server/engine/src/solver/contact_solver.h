@@ -15,7 +15,7 @@ struct SolveResult {
 };
 
 // Applies each pair's warm-start push (pair.lambda from the previous tick) along the current normal.
-void apply_warm_start(SolverBodies& bodies, const std::vector<SolverPair>& pairs);
+void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes);
 
 // Records each pair's and plane's penetration at the start of the solve (for push events).
 void measure_start_depths(const SolverBodies& bodies, std::vector<SolverPair>& pairs, std::vector<SolverPlane>& planes);

@@ -140,7 +140,7 @@ void World::Impl::build_pairs() {
 
 void World::Impl::solve() {
   const std::size_t n = sb.size();
-  if (settings.warm_start) detail::apply_warm_start(sb, pairs);
+  if (settings.warm_start) detail::apply_warm_start(sb, pairs, planes);
   if (settings.record_push_events) detail::measure_start_depths(sb, pairs, planes);
   const detail::SolveResult r =
       detail::solve_contacts(sb, pairs, planes, settings.iterations, settings.converged_pen_over_radius);

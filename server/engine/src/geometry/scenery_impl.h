@@ -1,0 +1,74 @@
+#pragma once
+// Private state of StaticScenery, shared by the .cpp files that implement its queries.
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
+#include <fcl/geometry/collision_geometry.h>
+#include <fcl/geometry/shape/box.h>
+#include <fcl/narrowphase/collision_object.h>
+#include <fcl/narrowphase/collision_request.h>
+#include <fcl/narrowphase/collision_result.h>
+
+#include "scenery_shapes.h"
+#include "throng/geometry/static_scenery.h"
+
+namespace throng::geom {
+namespace detail {
+
+struct ShapeRecord {
+  ShapeKind kind = ShapeKind::kBox;
+  std::uint32_t slot = 0;  // index into Impl::boxes / cylinders / meshes
+  Aabb aabb;
+  std::shared_ptr<fcl::CollisionGeometryd> geometry;  // the real shape, for FCL's narrowphase
+  fcl::Transform3d pose = fcl::Transform3d::Identity();
+  // The broadphase holds an axis-aligned box equal to `aabb` rather than the shape itself: FCL
+  // bounds a rotated shape by a cube around its bounding sphere, far too loose for long walls.
+  std::unique_ptr<fcl::CollisionObjectd> proxy;
+};
+
+// Per-thread scratch so const queries can run concurrently without allocating each call.
+struct QueryScratch {
+  QueryScratch();
+  std::shared_ptr<fcl::Boxd> probe_box;
+  std::unique_ptr<fcl::CollisionObjectd> probe;  // axis-aligned query box for the broadphase
+  std::vector<std::uint32_t> candidates;
+  std::vector<double> baseline;
+  fcl::CollisionRequestd request;
+  fcl::CollisionResultd result;
+};
+QueryScratch& query_scratch();
+
+bool is_upright(const Capsule& c);
+UprightCore upright_core(const Capsule& c);
+Aabb capsule_aabb(const Capsule& c);
+void validate_mover(const Capsule& c, const char* where);
+
+// FCL narrowphase (libccd MPR) for tilted movers and meshes; deepest contact wins.
+SignedPenetration fcl_penetration(const ShapeRecord& shape, const Capsule& mover,
+                                  QueryScratch& scratch);
+
+}  // namespace detail
+
+struct StaticScenery::Impl {
+  std::vector<detail::ShapeRecord> shapes;
+  std::vector<detail::BoxShape> boxes;
+  std::vector<detail::CylinderShape> cylinders;
+  std::vector<detail::MeshShape> meshes;
+  Aabb bounds;
+  std::unique_ptr<fcl::DynamicAABBTreeCollisionManagerd> manager;
+  bool built = false;
+
+  std::uint32_t add(ShapeKind kind, std::uint32_t slot, const Aabb& box,
+                    std::shared_ptr<fcl::CollisionGeometryd> geometry, const fcl::Transform3d& pose);
+  void require_built(const char* where) const;
+  // Indices (ascending) of the shapes whose AABB overlaps `box` (touching counts).
+  void gather(const Aabb& box, detail::QueryScratch& scratch) const;
+  // Signed penetration of the mover into one shape; exact closed form for upright movers against
+  // boxes and cylinders, FCL otherwise.
+  detail::SignedPenetration penetration(std::uint32_t shape, const Capsule& mover, bool upright,
+                                        detail::QueryScratch& scratch) const;
+};
+
+}  // namespace throng::geom
