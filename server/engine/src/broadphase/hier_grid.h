@@ -47,10 +47,23 @@ class HierGrid {
   void build(const double* x, const double* y, const double* r, std::size_t n, double margin_m, double cell0_m);
   const std::vector<std::uint32_t>& order() const { return order_; }
 
+  // Calls f(begin, end) with the solver index range of every finest-level cell holding more than
+  // `threshold` bodies, in key order.
+  template <class F>
+  void for_each_crowded_cell(std::uint32_t threshold, F&& f) const {
+    if (level_count_ == 0) return;
+    for (const Cell& c : levels_[0].cells) {
+      if (c.end - c.begin > threshold) f(c.begin, c.end);
+    }
+  }
+
   // Appends all candidate pairs (a < b not required; each unordered pair appears once) in a
-  // deterministic order. Returns the number of bodies whose candidate budget ran out.
+  // deterministic order: finest level first, in row-major cell order. row_starts receives the index
+  // of the first pair of each cell row of the finest level, then the end of that level's pairs,
+  // so the solver can sweep rows in either direction. Returns the number of bodies whose candidate
+  // budget ran out.
   std::uint32_t find_pairs(const GridBodyView& v, double margin_m, std::uint32_t max_candidates,
-                           std::vector<CandidatePair>& out) const;
+                           std::vector<CandidatePair>& out, std::vector<std::uint32_t>& row_starts) const;
 
  private:
   struct Cell {

@@ -65,18 +65,31 @@ void measure_start_depths(const SolverBodies& b, std::vector<SolverPair>& pairs,
   }
 }
 
+constexpr std::uint32_t kSweepOrders = 2;
 SolveResult solve_contacts(SolverBodies& b, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
-                           std::uint32_t iterations, double converged) {
+                           const std::vector<std::uint32_t>& row_starts, std::uint32_t iterations, double converged) {
   SolveResult result;
   const std::size_t np = pairs.size();
+  const std::size_t rows = row_starts.empty() ? 0 : row_starts.size() - 1;
+  const std::size_t rows_end = row_starts.empty() ? 0 : row_starts.back();
+  double worst = 0.0;
+  auto project = [&](std::size_t k) {
+    SolverPair& p = pairs[k];
+    const double pen = project_pair(b, p, pinned_share(b, planes, p));
+    if (pen > 0.0) worst = std::max(worst, pen / std::min(b.r[p.a], b.r[p.b]));
+  };
   for (std::uint32_t it = 0; it < iterations; ++it) {
-    double worst = 0.0;
-    const bool forward = (it % 2) == 0;
-    for (std::size_t k = 0; k < np; ++k) {
-      SolverPair& p = pairs[forward ? k : np - 1 - k];
-      const double pen = project_pair(b, p, pinned_share(b, planes, p));
-      if (pen > 0.0) worst = std::max(worst, pen / std::min(b.r[p.a], b.r[p.b]));
+    worst = 0.0;
+    const std::uint32_t order = it % kSweepOrders;
+    const bool rows_up = order == 0 || order == 2;
+    const bool cells_right = order == 0 || order == 3;
+    for (std::size_t q = 0; q < rows; ++q) {
+      const std::size_t row = rows_up ? q : rows - 1 - q;
+      const std::size_t begin = row_starts[row], end = row_starts[row + 1];
+      if (cells_right) for (std::size_t k = begin; k < end; ++k) project(k);
+      else for (std::size_t k = end; k > begin; --k) project(k - 1);
     }
+    for (std::size_t k = rows_end; k < np; ++k) project(k);
     // Fixed bodies last in every sweep: they always win, and the final state honours them exactly.
     for (std::size_t i = 0; i < b.size(); ++i) {
       if (b.plane_count[i] == 0) continue;

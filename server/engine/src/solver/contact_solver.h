@@ -20,9 +20,14 @@ void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, cons
 // Records each pair's and plane's penetration at the start of the solve (for push events).
 void measure_start_depths(const SolverBodies& bodies, std::vector<SolverPair>& pairs, std::vector<SolverPlane>& planes);
 
-// Sweeps alternate direction (symmetric Gauss-Seidel) so a push travels through a packed crowd in
-// both directions within two sweeps, instead of one body per sweep against the order.
+// Sweeps cycle through four orders of the pairs: rows up / cells right, rows down / cells left,
+// rows up / cells left, rows down / cells right (the "fast sweeping" idea from eikonal solvers).
+// A Gauss-Seidel sweep carries a push far along its own order but only one contact against it, so
+// in a crowd pressing from all sides each quadrant's pressure gets a sweep in its own direction
+// every four iterations. row_starts comes from the broadphase (pair index of each cell row, then
+// the end of the rows); pairs after the last row (coarser levels) are swept in list order.
 SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
-                           std::uint32_t iterations, double converged_pen_over_radius);
+                           const std::vector<std::uint32_t>& row_starts, std::uint32_t iterations,
+                           double converged_pen_over_radius);
 
 }  // namespace throng::detail

@@ -24,6 +24,10 @@ struct SolverBodies {
 
 struct SolverPair {
   std::uint32_t a, b;     // solver indices
+  // Horizontal centre distance at which the pair stops overlapping, when both bodies are grounded
+  // (their heights do not change within a tick, so it is computed once per tick); negative when
+  // a body is airborne and the pair is resolved in 3D.
+  double target;
   double share_a;         // fraction of each push that moves a; b moves 1 - share_a
   double lambda;          // accumulated push this tick [m] (warm-started from last tick)
   double depth_start;     // penetration when the solve started [m], for push events

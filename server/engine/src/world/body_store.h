@@ -20,6 +20,7 @@ struct BodyStore {
   std::vector<double> x, y, z;        // centre [m]
   std::vector<double> vx, vy, vz;     // desired velocity [m/s] (an input)
   std::vector<double> ax, ay, az;     // actual velocity over the last tick [m/s]
+  std::vector<double> px, py;         // solver push of the last tick (final - moved) [m]
   std::vector<double> r, hh;          // radius, half height of the core segment [m]
   std::vector<std::uint8_t> grounded;
   std::vector<ObjectId> id;
@@ -35,7 +36,7 @@ struct BodyStore {
 
   template <class F>
   void for_each_column(F&& f) {
-    f(x); f(y); f(z); f(vx); f(vy); f(vz); f(ax); f(ay); f(az); f(r); f(hh); f(grounded); f(id);
+    f(x); f(y); f(z); f(vx); f(vy); f(vz); f(ax); f(ay); f(az); f(px); f(py); f(r); f(hh); f(grounded); f(id);
     f(resistance); f(rule_lhs); f(rule_rhs); f(group); f(mask); f(coeff_dirty); f(morale_level); f(warm_count);
   }
   void push_back_default() {

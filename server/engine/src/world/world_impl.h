@@ -66,13 +66,25 @@ struct World::Impl {
   detail::HierGrid grid;
   detail::SolverBodies sb;
   std::vector<detail::CandidatePair> candidates;
+  std::vector<std::uint32_t> pair_rows;  // pair index of each finest-level cell row
   std::vector<detail::SolverPair> pairs;
   std::vector<detail::SolverPlane> planes;
   std::vector<geom::SceneryContact> contacts;
   std::vector<PushEvent> events;
   std::vector<double> start_x, start_y, start_z;
+  std::vector<double> moved_x, moved_y;  // after the move phase, before the solve
   std::vector<double> median_scratch;
   std::vector<std::uint32_t> sgroup, smask;  // collision filter in solver order
+
+  // Pile relief (pile_relief.cpp).
+  static constexpr std::uint32_t kPileThreshold = 32;
+  struct PileEntry {
+    double dist2;
+    std::uint32_t id;
+    std::uint32_t dense;
+  };
+  std::vector<PileEntry> pile;
+  double grid_cell0 = 1.0;
 
   std::uint64_t tick = 0;
   StepStats stats;
@@ -93,6 +105,7 @@ struct World::Impl {
   void refresh_coefficients();
   void move_bodies();
   void build_pairs();
+  bool relieve_piles();
   void build_scenery_planes();
   void solve();
   void verify_scenery_after_solve();

@@ -58,8 +58,21 @@ void World::Impl::move_bodies() {
   start_z.assign(bodies.z.begin(), bodies.z.end());
   const double dt = settings.dt_s;
   const bool has_scenery = scenery.size() > 0;
+  const double carry = settings.blocked_motion_carry;
   for (std::size_t i = 0; i < n; ++i) {
-    const double dx = bodies.vx[i] * dt, dy = bodies.vy[i] * dt;
+    double dx = bodies.vx[i] * dt, dy = bodies.vy[i] * dt;
+    if (carry > 0.0) {
+      // Shorten the step by the part of it that was pushed back last tick (see WorldSettings).
+      const double step = std::sqrt(dx * dx + dy * dy);
+      if (step > 0.0) {
+        const double blocked = -(bodies.px[i] * dx + bodies.py[i] * dy) / step;
+        if (blocked > 0.0) {
+          const double keep = 1.0 - carry * std::min(blocked, step) / step;
+          dx *= keep;
+          dy *= keep;
+        }
+      }
+    }
     const double dz = bodies.grounded[i] ? 0.0 : bodies.vz[i] * dt;
     double frac = 1.0;
     // A move longer than half a radius could step over a thin wall in one tick (a charging horse):
@@ -76,6 +89,8 @@ void World::Impl::move_bodies() {
     bodies.y[i] += dy * frac;
     bodies.z[i] += dz * frac;
   }
+  moved_x.assign(bodies.x.begin(), bodies.x.end());
+  moved_y.assign(bodies.y.begin(), bodies.y.end());
 }
 
 double World::Impl::cell0_size() {
@@ -92,7 +107,9 @@ double World::Impl::cell0_size() {
 void World::Impl::build_pairs() {
   const std::size_t n = bodies.size();
   const double margin = settings.contact_margin_m;
-  grid.build(bodies.x.data(), bodies.y.data(), bodies.r.data(), n, margin, cell0_size());
+  grid_cell0 = cell0_size();
+  grid.build(bodies.x.data(), bodies.y.data(), bodies.r.data(), n, margin, grid_cell0);
+  if (relieve_piles()) grid.build(bodies.x.data(), bodies.y.data(), bodies.r.data(), n, margin, grid_cell0);
   const std::vector<std::uint32_t>& order = grid.order();
   sb.resize(n);
   sgroup.resize(n);
@@ -109,7 +126,7 @@ void World::Impl::build_pairs() {
   candidates.clear();
   const detail::GridBodyView view{sb.x.data(), sb.y.data(), sb.z.data(), sb.r.data(), sb.hh.data(),
                                   sgroup.data(), smask.data()};
-  stats.capped_bodies = grid.find_pairs(view, margin, settings.max_candidates_per_body, candidates);
+  stats.capped_bodies = grid.find_pairs(view, margin, settings.max_candidates_per_body, candidates, pair_rows);
   stats.candidate_pairs = static_cast<std::uint32_t>(candidates.size());
 
   pairs.resize(candidates.size());
@@ -123,6 +140,14 @@ void World::Impl::build_pairs() {
     const double d = std::sqrt(nx * nx + ny * ny);
     if (d > 0.0) { nx /= d; ny /= d; }
     p.share_a = pair_share(da, db, nx, ny);
+    p.target = -1.0;
+    if (sb.grounded[a] & sb.grounded[b]) {
+      // Upright capsules at fixed heights: the horizontal separation they need is exact.
+      const double rsum = sb.r[a] + sb.r[b];
+      const double gap = std::fabs(sb.z[b] - sb.z[a]) - sb.hh[a] - sb.hh[b];
+      const double target2 = gap > 0.0 ? rsum * rsum - gap * gap : rsum * rsum;
+      p.target = target2 > 0.0 ? std::sqrt(target2) : 0.0;
+    }
     p.lambda = 0.0;
     p.depth_start = 0.0;
     if (settings.warm_start) {
@@ -143,7 +168,7 @@ void World::Impl::solve() {
   if (settings.warm_start) detail::apply_warm_start(sb, pairs, planes);
   if (settings.record_push_events) detail::measure_start_depths(sb, pairs, planes);
   const detail::SolveResult r =
-      detail::solve_contacts(sb, pairs, planes, settings.iterations, settings.converged_pen_over_radius);
+      detail::solve_contacts(sb, pairs, planes, pair_rows, settings.iterations, settings.converged_pen_over_radius);
   stats.iterations_used = r.iterations_used;
   stats.max_pen_over_radius = r.max_pen_over_radius;
   const std::vector<std::uint32_t>& order = grid.order();
@@ -186,6 +211,8 @@ void World::Impl::store_warm_start_and_events() {
 void World::Impl::finish_tick() {
   const double inv_dt = 1.0 / settings.dt_s;
   for (std::size_t i = 0; i < bodies.size(); ++i) {
+    bodies.px[i] = bodies.x[i] - moved_x[i];
+    bodies.py[i] = bodies.y[i] - moved_y[i];
     bodies.ax[i] = (bodies.x[i] - start_x[i]) * inv_dt;
     bodies.ay[i] = (bodies.y[i] - start_y[i]) * inv_dt;
     bodies.az[i] = (bodies.z[i] - start_z[i]) * inv_dt;

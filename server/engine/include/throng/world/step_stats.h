@@ -17,6 +17,7 @@ struct StepStats {
   std::uint32_t iterations_used = 0;
   std::uint32_t capped_bodies = 0;     // bodies that hit max_candidates_per_body
   std::uint32_t tunnel_clamps = 0;     // fast moves shortened by the swept test
+  std::uint32_t pile_relief_bodies = 0;  // bodies laid out afresh from a degenerate pile
   double max_pen_over_radius = 0.0;    // after the last iteration, over candidate pairs
 };
 

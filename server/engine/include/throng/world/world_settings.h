@@ -20,6 +20,12 @@ struct WorldSettings {
   bool record_push_events = true;
   // Reuse last tick's per-pair push (warm starting). Off only for experiments/benchmarks.
   bool warm_start = true;
+  // Blocked-motion warm start: a body that was pushed back against its own step last tick starts
+  // this tick with that much less step (times this factor), so a jammed crowd does not re-create
+  // the whole jam's overlap every tick. Only ever shortens a body's own step, never pushes it
+  // sideways or backwards; a body released from a jam regains full speed within a few ticks
+  // (the remaining shortening decays by this factor per tick). 0 = off. [0, 0.99]
+  double blocked_motion_carry = 0.9;
   // Cap on neighbour candidates examined per body and tick. A normal crowd never reaches it; it is
   // what keeps the cost linear when thousands of bodies stand in one cell. [4, 4096]
   std::uint32_t max_candidates_per_body = 48;
