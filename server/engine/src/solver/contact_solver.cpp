@@ -73,10 +73,15 @@ SolveResult solve_contacts(SolverBodies& b, std::vector<SolverPair>& pairs, cons
   const std::size_t rows = row_starts.empty() ? 0 : row_starts.size() - 1;
   const std::size_t rows_end = row_starts.empty() ? 0 : row_starts.back();
   double worst = 0.0;
+  // Most crowds touch no scenery at all; skip the per-pair pinned test for them.
+  const bool any_planes = !planes.empty();
   auto project = [&](std::size_t k) {
     SolverPair& p = pairs[k];
-    const double pen = project_pair(b, p, pinned_share(b, planes, p));
-    if (pen > 0.0) worst = std::max(worst, pen / std::min(b.r[p.a], b.r[p.b]));
+    const double pen = project_pair(b, p, any_planes ? pinned_share(b, planes, p) : p.share_a);
+    if (pen > 0.0) {
+      const double r_min = std::min(b.r[p.a], b.r[p.b]);
+      if (pen > worst * r_min) worst = pen / r_min;  // divide only for a new maximum
+    }
   };
   for (std::uint32_t it = 0; it < iterations; ++it) {
     worst = 0.0;
@@ -91,7 +96,7 @@ SolveResult solve_contacts(SolverBodies& b, std::vector<SolverPair>& pairs, cons
     }
     for (std::size_t k = rows_end; k < np; ++k) project(k);
     // Fixed bodies last in every sweep: they always win, and the final state honours them exactly.
-    for (std::size_t i = 0; i < b.size(); ++i) {
+    for (std::size_t i = 0; any_planes && i < b.size(); ++i) {
       if (b.plane_count[i] == 0) continue;
       const double pen = project_planes(b, planes, static_cast<std::uint32_t>(i));
       if (pen > 0.0) worst = std::max(worst, pen / b.r[i]);

@@ -34,11 +34,36 @@ struct BodyStore {
 
   std::size_t size() const { return x.size(); }
 
+  // Calls f(column_of_a, column_of_b) for every per-body column of two stores; the one list of
+  // columns that resizing, removal, permutation and hashing all go through.
+  template <class F>
+  static void zip_columns(BodyStore& a, BodyStore& b, F&& f) {
+    f(a.x, b.x); f(a.y, b.y); f(a.z, b.z); f(a.vx, b.vx); f(a.vy, b.vy); f(a.vz, b.vz);
+    f(a.ax, b.ax); f(a.ay, b.ay); f(a.az, b.az); f(a.px, b.px); f(a.py, b.py); f(a.r, b.r); f(a.hh, b.hh);
+    f(a.grounded, b.grounded); f(a.id, b.id); f(a.resistance, b.resistance); f(a.rule_lhs, b.rule_lhs);
+    f(a.rule_rhs, b.rule_rhs); f(a.group, b.group); f(a.mask, b.mask); f(a.coeff_dirty, b.coeff_dirty);
+    f(a.morale_level, b.morale_level); f(a.warm_count, b.warm_count);
+  }
   template <class F>
   void for_each_column(F&& f) {
-    f(x); f(y); f(z); f(vx); f(vy); f(vz); f(ax); f(ay); f(az); f(px); f(py); f(r); f(hh); f(grounded); f(id);
-    f(resistance); f(rule_lhs); f(rule_rhs); f(group); f(mask); f(coeff_dirty); f(morale_level); f(warm_count);
+    zip_columns(*this, *this, [&](auto& col, auto&) { f(col); });
   }
+
+  // Rebuilds this store in `order` (new index s holds old body order[s]) using `scratch` as the
+  // destination, then swaps: no allocation once scratch has reached the store's size.
+  void permute(const std::vector<std::uint32_t>& order, BodyStore& scratch) {
+    zip_columns(scratch, *this, [&](auto& dst, auto& src) {
+      dst.resize(src.size());
+      for (std::size_t s = 0; s < order.size(); ++s) dst[s] = src[order[s]];
+      dst.swap(src);
+    });
+    scratch.warm.resize(warm.size());
+    for (std::size_t s = 0; s < order.size(); ++s) {
+      for (std::uint32_t k = 0; k < kWarmSlots; ++k) scratch.warm[s * kWarmSlots + k] = warm[order[s] * kWarmSlots + k];
+    }
+    scratch.warm.swap(warm);
+  }
+
   void push_back_default() {
     for_each_column([](auto& col) { col.emplace_back(); });
     warm.resize(warm.size() + kWarmSlots);

@@ -86,6 +86,11 @@ struct World::Impl {
   std::vector<PileEntry> pile;
   double grid_cell0 = 1.0;
 
+  // Spatial reordering of the dense arrays (world_step.cpp).
+  static constexpr std::uint64_t kReorderPeriodTicks = 16;
+  detail::BodyStore body_scratch;
+  std::vector<params::ObjectParams> params_scratch;
+
   std::uint64_t tick = 0;
   StepStats stats;
 
@@ -111,6 +116,7 @@ struct World::Impl {
   void verify_scenery_after_solve();
   void store_warm_start_and_events();
   void finish_tick();
+  void reorder_dense();
 
   // helpers
   void rebuild_scenery_cells();
