@@ -90,7 +90,9 @@ void World::Impl::update_morale_counts() {
   }
   if (phase + 1 == period) {
     bool changed = false;
-    for (std::uint32_t g : groups.ids()) {
+    // Walk ids instead of groups.ids(): that returns a fresh vector, and the tick must not allocate.
+    for (std::uint32_t g = 1; g <= params::kMaxGroupId; ++g) {
+      if (!groups.contains(g)) continue;
       const params::MoraleState before = groups.at(g).morale_state;
       changed |= groups.update_morale(g, morale_allies[g], morale_enemies[g]) != before;
     }
