@@ -89,17 +89,13 @@ void HierGrid::build(const double* x, const double* y, const double* r, std::siz
 }
 
 std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::uint32_t max_candidates,
-                                   std::vector<CandidatePair>& out, std::vector<std::uint32_t>& row_starts) const {
+                                   std::vector<CandidatePair>& out) const {
   std::uint32_t capped = 0;
-  row_starts.clear();
   for (int l = 0; l < level_count_; ++l) {
     const std::vector<Cell>& cells = levels_[l].cells;
     std::size_t up = 0;  // first cell at or after (cx - 1, cy + 1); only moves forward
     for (std::size_t k = 0; k < cells.size(); ++k) {
       const Cell& c = cells[k];
-      if (l == 0 && (k == 0 || (cells[k - 1].key >> 32) != (c.key >> 32))) {
-        row_starts.push_back(static_cast<std::uint32_t>(out.size()));
-      }
       const std::uint64_t up_lo = c.key + kRow - 1, up_hi = c.key + kRow + 1;
       while (up < cells.size() && cells[up].key < up_lo) ++up;
       const Cell* right = (k + 1 < cells.size() && cells[k + 1].key == c.key + 1) ? &cells[k + 1] : nullptr;
@@ -116,7 +112,6 @@ std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::ui
         if (budget == 0) ++capped;
       }
     }
-    if (l == 0) row_starts.push_back(static_cast<std::uint32_t>(out.size()));
   }
   // Cross-level pairs: each body of a coarser level queries the finer levels over its box.
   for (int l = 1; l < level_count_; ++l) {

@@ -58,12 +58,10 @@ class HierGrid {
   }
 
   // Appends all candidate pairs (a < b not required; each unordered pair appears once) in a
-  // deterministic order: finest level first, in row-major cell order. row_starts receives the index
-  // of the first pair of each cell row of the finest level, then the end of that level's pairs,
-  // so the solver can sweep rows in either direction. Returns the number of bodies whose candidate
-  // budget ran out.
+  // deterministic order: finest level first, in row-major cell order. Returns the number of bodies
+  // whose candidate budget ran out.
   std::uint32_t find_pairs(const GridBodyView& v, double margin_m, std::uint32_t max_candidates,
-                           std::vector<CandidatePair>& out, std::vector<std::uint32_t>& row_starts) const;
+                           std::vector<CandidatePair>& out) const;
 
  private:
   struct Cell {

@@ -65,19 +65,16 @@ void measure_start_depths(const SolverBodies& b, std::vector<SolverPair>& pairs,
   }
 }
 
-constexpr std::uint32_t kSweepOrders = 2;
-SolveResult solve_contacts(SolverBodies& b, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
-                           const std::vector<std::uint32_t>& row_starts, std::uint32_t iterations, double converged) {
+SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
+                           std::uint32_t iterations, double converged) {
   SolveResult result;
+  const BodyPtrs b(bodies);
   const std::size_t np = pairs.size();
-  const std::size_t rows = row_starts.empty() ? 0 : row_starts.size() - 1;
-  const std::size_t rows_end = row_starts.empty() ? 0 : row_starts.back();
   double worst = 0.0;
   // Most crowds touch no scenery at all; skip the per-pair pinned test for them.
   const bool any_planes = !planes.empty();
-  auto project = [&](std::size_t k) {
-    SolverPair& p = pairs[k];
-    const double pen = project_pair(b, p, any_planes ? pinned_share(b, planes, p) : p.share_a);
+  auto project = [&](SolverPair& p) {
+    const double pen = project_pair(b, p, any_planes ? pinned_share(bodies, planes, p) : p.share_a);
     if (pen > 0.0) {
       const double r_min = std::min(b.r[p.a], b.r[p.b]);
       if (pen > worst * r_min) worst = pen / r_min;  // divide only for a new maximum
@@ -85,21 +82,13 @@ SolveResult solve_contacts(SolverBodies& b, std::vector<SolverPair>& pairs, cons
   };
   for (std::uint32_t it = 0; it < iterations; ++it) {
     worst = 0.0;
-    const std::uint32_t order = it % kSweepOrders;
-    const bool rows_up = order == 0 || order == 2;
-    const bool cells_right = order == 0 || order == 3;
-    for (std::size_t q = 0; q < rows; ++q) {
-      const std::size_t row = rows_up ? q : rows - 1 - q;
-      const std::size_t begin = row_starts[row], end = row_starts[row + 1];
-      if (cells_right) for (std::size_t k = begin; k < end; ++k) project(k);
-      else for (std::size_t k = end; k > begin; --k) project(k - 1);
-    }
-    for (std::size_t k = rows_end; k < np; ++k) project(k);
+    if (it % 2 == 0) for (std::size_t k = 0; k < np; ++k) project(pairs[k]);
+    else for (std::size_t k = np; k > 0; --k) project(pairs[k - 1]);
     // Fixed bodies last in every sweep: they always win, and the final state honours them exactly.
-    for (std::size_t i = 0; any_planes && i < b.size(); ++i) {
-      if (b.plane_count[i] == 0) continue;
-      const double pen = project_planes(b, planes, static_cast<std::uint32_t>(i));
-      if (pen > 0.0) worst = std::max(worst, pen / b.r[i]);
+    for (std::size_t i = 0; any_planes && i < bodies.size(); ++i) {
+      if (bodies.plane_count[i] == 0) continue;
+      const double pen = project_planes(bodies, planes, static_cast<std::uint32_t>(i));
+      if (pen > 0.0) worst = std::max(worst, pen / bodies.r[i]);
     }
     result.iterations_used = it + 1;
     result.max_pen_over_radius = worst;

@@ -20,14 +20,11 @@ void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, cons
 // Records each pair's and plane's penetration at the start of the solve (for push events).
 void measure_start_depths(const SolverBodies& bodies, std::vector<SolverPair>& pairs, std::vector<SolverPlane>& planes);
 
-// Sweeps cycle through four orders of the pairs: rows up / cells right, rows down / cells left,
-// rows up / cells left, rows down / cells right (the "fast sweeping" idea from eikonal solvers).
-// A Gauss-Seidel sweep carries a push far along its own order but only one contact against it, so
-// in a crowd pressing from all sides each quadrant's pressure gets a sweep in its own direction
-// every four iterations. row_starts comes from the broadphase (pair index of each cell row, then
-// the end of the rows); pairs after the last row (coarser levels) are swept in list order.
+// Sweeps alternate direction (symmetric Gauss-Seidel): a sweep carries a push far along its own
+// order but only one contact against it, so alternating lets pressure travel both ways through a
+// packed crowd. (Cycling four row/column orders, as fast-sweeping eikonal solvers do, was measured
+// worse on the crush scene at 8 and 16 iterations: p99 0.115 vs 0.070 at K = 8.)
 SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
-                           const std::vector<std::uint32_t>& row_starts, std::uint32_t iterations,
-                           double converged_pen_over_radius);
+                           std::uint32_t iterations, double converged_pen_over_radius);
 
 }  // namespace throng::detail

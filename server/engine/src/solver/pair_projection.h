@@ -32,7 +32,7 @@ inline void coincident_direction(std::uint32_t id_a, std::uint32_t id_b, double&
 
 // Returns the penetration before the projection (0 if separated), in metres. share_a is passed
 // separately from p.share_a because a body pinned against a fixed plane takes no share this time.
-inline double project_pair(SolverBodies& b, SolverPair& p, double share_a) {
+inline double project_pair(const BodyPtrs& b, SolverPair& p, double share_a) {
   const std::uint32_t ia = p.a, ib = p.b;
   const double dx = b.x[ib] - b.x[ia];
   const double dy = b.y[ib] - b.y[ia];

@@ -22,6 +22,22 @@ struct SolverBodies {
   std::size_t size() const { return x.size(); }
 };
 
+// Raw pointers into SolverBodies for the hot loops: taken once per solve so the compiler keeps them
+// in registers instead of reloading each vector's data pointer around every store.
+struct BodyPtrs {
+  double* x;
+  double* y;
+  double* z;
+  const double* r;
+  const double* hh;
+  const std::uint8_t* grounded;
+  const std::uint32_t* id;
+
+  explicit BodyPtrs(SolverBodies& b)
+      : x(b.x.data()), y(b.y.data()), z(b.z.data()), r(b.r.data()), hh(b.hh.data()), grounded(b.grounded.data()),
+        id(b.id.data()) {}
+};
+
 struct SolverPair {
   std::uint32_t a, b;     // solver indices
   // Horizontal centre distance at which the pair stops overlapping, when both bodies are grounded

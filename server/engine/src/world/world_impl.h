@@ -66,7 +66,6 @@ struct World::Impl {
   detail::HierGrid grid;
   detail::SolverBodies sb;
   std::vector<detail::CandidatePair> candidates;
-  std::vector<std::uint32_t> pair_rows;  // pair index of each finest-level cell row
   std::vector<detail::SolverPair> pairs;
   std::vector<detail::SolverPlane> planes;
   std::vector<geom::SceneryContact> contacts;

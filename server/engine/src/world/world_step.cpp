@@ -127,7 +127,7 @@ void World::Impl::build_pairs() {
   candidates.clear();
   const detail::GridBodyView view{sb.x.data(), sb.y.data(), sb.z.data(), sb.r.data(), sb.hh.data(),
                                   sgroup.data(), smask.data()};
-  stats.capped_bodies = grid.find_pairs(view, margin, settings.max_candidates_per_body, candidates, pair_rows);
+  stats.capped_bodies = grid.find_pairs(view, margin, settings.max_candidates_per_body, candidates);
   stats.candidate_pairs = static_cast<std::uint32_t>(candidates.size());
 
   pairs.resize(candidates.size());
@@ -169,7 +169,7 @@ void World::Impl::solve() {
   if (settings.warm_start) detail::apply_warm_start(sb, pairs, planes);
   if (settings.record_push_events) detail::measure_start_depths(sb, pairs, planes);
   const detail::SolveResult r =
-      detail::solve_contacts(sb, pairs, planes, pair_rows, settings.iterations, settings.converged_pen_over_radius);
+      detail::solve_contacts(sb, pairs, planes, settings.iterations, settings.converged_pen_over_radius);
   stats.iterations_used = r.iterations_used;
   stats.max_pen_over_radius = r.max_pen_over_radius;
   const std::vector<std::uint32_t>& order = grid.order();
