@@ -128,6 +128,24 @@ TEST(WorldHardCases, TinyAndHugeRadiiInOneScene) {
   EXPECT_LT(res.max_pen_over_radius, 0.05);
 }
 
+TEST(WorldHardCases, CoincidentCentresSeparateDeterministically) {
+  auto run = [] {
+    World w(budget(8), test_table(), weight_policy(params::PushMode::ratio, 100.0));
+    const ObjectId a = add_sphere(w, 3.0, 4.0);
+    const ObjectId b = add_sphere(w, 3.0, 4.0);
+    w.step();
+    return std::pair{w.position(a), w.position(b)};
+  };
+  const auto [a1, b1] = run();
+  const auto [a2, b2] = run();
+  ASSERT_TRUE(is_finite(a1) && is_finite(b1));
+  EXPECT_NEAR(distance_xy(a1, b1), 0.7, 1e-12);
+  EXPECT_EQ(a1, a2);
+  EXPECT_EQ(b1, b2);
+  // Equal parameters: each moved half the depth, in opposite directions.
+  EXPECT_NEAR(distance_xy(a1, {3.0, 4.0, 0.0}), 0.35, 1e-12);
+}
+
 TEST(WorldHardCases, TenKilometresFromTheOrigin) {
   World w(budget(8), test_table(), weight_policy(params::PushMode::ratio, 100.0));
   const double far = 10000.0;
