@@ -146,6 +146,25 @@ TEST(WorldHardCases, CoincidentCentresSeparateDeterministically) {
   EXPECT_NEAR(distance_xy(a1, {3.0, 4.0, 0.0}), 0.35, 1e-12);
 }
 
+// A body spawned inside a low, wide obstacle: the shortest way out is up, which a grounded body
+// cannot take; it must be pushed out sideways. A body standing on a ledge must stay on it.
+TEST(WorldHardCases, EmbeddedBodyLeavesSidewaysAndLedgeStandersStay) {
+  World w(budget(8), test_table(), weight_policy(params::PushMode::ratio, 100.0));
+  w.add_fixed_cylinder({0.0, 0.0, 0.5}, 1.5, 0.5);           // 1 m tall, 3 m wide
+  w.add_fixed_box({10.0, 0.0, 0.5}, {2.0, 2.0, 0.5}, 0.0);   // a ledge, top at z = 1
+  const ObjectId embedded = add_sphere(w, 0.4, 0.3, 0.35);
+  BodyDef on_ledge;
+  on_ledge.position = {10.0, 0.0, 1.0 + 0.35};
+  on_ledge.radius_m = 0.35;
+  const ObjectId stander = w.create_body(on_ledge);
+  w.step();
+  const Vec3 p = w.position(embedded);
+  EXPECT_GE(std::hypot(p.x, p.y), 1.5 + 0.35 - 1e-9);
+  EXPECT_EQ(w.position(stander).x, 10.0);
+  EXPECT_EQ(w.position(stander).y, 0.0);
+  for (std::size_t i = 0; i < w.body_count(); ++i) EXPECT_LE(w.scenery_max_penetration(i), 1e-9);
+}
+
 TEST(WorldHardCases, TenKilometresFromTheOrigin) {
   World w(budget(8), test_table(), weight_policy(params::PushMode::ratio, 100.0));
   const double far = 10000.0;

@@ -35,6 +35,9 @@ params::ParamTable builtin_param_table() {
   t.set_archetype("wall", scenery(0.0));
   t.set_archetype("bush", scenery(0.6));
   t.set_archetype("cushion", scenery(0.9));
+  // The built-in scenes put their formations in groups 1..6 (street and battle); registering them
+  // lets the World track their morale, like a designer's table would.
+  for (std::uint32_t id = 1; id <= 6; ++id) t.groups().set(id, params::Group{});
   return t;
 }
 

@@ -74,12 +74,14 @@ std::uint64_t FieldReader::integer(const std::string& key, std::optional<std::ui
     if (!fallback) fail(key, "is required");
     return *fallback;
   }
-  if (v->is_number_unsigned()) {
+  // Parsed text gives unsigned for non-negative integers, but inline objects built in code
+  // (json{{"count", 3}}) hold signed ones: accept both.
+  if (v->is_number_integer()) {
+    if (!v->is_number_unsigned() && v->get<std::int64_t>() < 0) fail(key, "must be >= 0");
     const auto u = v->get<std::uint64_t>();
     if (u > max) fail(key, "must be <= " + std::to_string(max));
     return u;
   }
-  if (v->is_number_integer()) fail(key, "must be >= 0");  // only negative integers land here
   const double d = finite_number(*v, path_of(key));
   if (d < 0.0) fail(key, "must be >= 0");
   if (d != std::floor(d)) fail(key, "must be a whole number");
@@ -139,6 +141,8 @@ Vec3 FieldReader::vec3(const std::string& key, std::optional<Vec3> fallback) {
 
 void FieldReader::finish() const {
   for (auto it = j_.begin(); it != j_.end(); ++it) {
+    // "_comment", "_why": notes for humans, as in the parameter and policy files.
+    if (!it.key().empty() && it.key()[0] == '_') continue;
     if (known_.count(it.key()) == 0) {
       std::string allowed;
       for (const auto& k : known_) allowed += (allowed.empty() ? "" : ", ") + k;

@@ -42,6 +42,7 @@ class FieldReader {
   const nlohmann::json* raw(const std::string& key);
 
   // Throws on the first key (in the object's sorted key order) that was never asked about.
+  // Keys starting with '_' are comments and always allowed.
   void finish() const;
 
  private:

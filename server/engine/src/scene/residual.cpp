@@ -10,9 +10,16 @@
 namespace throng::scene {
 namespace {
 
+// Hash combine with a full avalanche (murmur3's fmix64). Table slots are the low bits, and a bare
+// multiply leaves those depending only on the key's low bits — for a packed cell key, only on the
+// y coordinate — so a whole row of cells piled into one probe chain (3-5x slower at 100k bodies).
 std::uint64_t mix(std::uint64_t h, std::uint64_t v) {
   h ^= v + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
-  return h * 0xFF51AFD7ED558CCDull;
+  h ^= h >> 33;
+  h *= 0xFF51AFD7ED558CCDull;
+  h ^= h >> 33;
+  h *= 0xC4CEB9FE1A85EC53ull;
+  return h ^ (h >> 33);
 }
 
 std::uint64_t bits(double d) { return std::bit_cast<std::uint64_t>(d + 0.0); }  // + 0.0: -0 == +0

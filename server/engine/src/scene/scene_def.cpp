@@ -1,15 +1,20 @@
 #include "throng/scene/scene_def.h"
 
+#include "settings_fields.h"
+
 namespace throng::scene {
 namespace {
 
-// WorldSettings has no operator==; compared here field by field. A field added there and not here
-// only makes round-trip tests weaker, never wrong — the state-hash round-trip test still covers it.
+// WorldSettings has no operator==; compared over the fields a scene can set (settings_fields.h).
 bool settings_equal(const WorldSettings& a, const WorldSettings& b) {
-  return a.dt_s == b.dt_s && a.iterations == b.iterations && a.contact_margin_m == b.contact_margin_m &&
-         a.converged_pen_over_radius == b.converged_pen_over_radius && a.warm_start == b.warm_start &&
-         a.max_candidates_per_body == b.max_candidates_per_body && a.cell_size_m == b.cell_size_m &&
-         a.morale_radius_m == b.morale_radius_m && a.morale_refresh_ticks == b.morale_refresh_ticks;
+  for (const auto& f : detail::kSettingFields) {
+    switch (f.type) {
+      case detail::SettingField::Type::f64: if (a.*f.f64 != b.*f.f64) return false; break;
+      case detail::SettingField::Type::u32: if (a.*f.u32 != b.*f.u32) return false; break;
+      case detail::SettingField::Type::boolean: if (a.*f.boolean != b.*f.boolean) return false; break;
+    }
+  }
+  return true;
 }
 
 }  // namespace

@@ -2,39 +2,43 @@
 // nlohmann writes doubles with the shortest text that parses back to the same bits, which is what
 // makes "dump, reload, same state hash" hold.
 #include "kind_names.h"
+#include "pretty_json.h"
+#include "settings_fields.h"
 #include "throng/scene/scene_json.h"
 
 namespace throng::scene {
 namespace {
 
-nlohmann::json vec(Vec2 v) { return nlohmann::json::array({v.x, v.y}); }
-nlohmann::json vec(Vec3 v) { return nlohmann::json::array({v.x, v.y, v.z}); }
+using Json = nlohmann::ordered_json;  // keys in the order written: type first, then the layout
 
-nlohmann::json source(const DocumentSource& s) {
+Json vec(Vec2 v) { return Json::array({v.x, v.y}); }
+Json vec(Vec3 v) { return Json::array({v.x, v.y, v.z}); }
+
+Json source(const DocumentSource& s) {
   if (!s.file.empty()) return s.file;
   return s.inline_doc;  // null = defaults
 }
 
-nlohmann::json settings(const WorldSettings& s) {
-  return {{"dt_s", s.dt_s},
-          {"iterations", s.iterations},
-          {"contact_margin_m", s.contact_margin_m},
-          {"converged_pen_over_radius", s.converged_pen_over_radius},
-          {"warm_start", s.warm_start},
-          {"max_candidates_per_body", s.max_candidates_per_body},
-          {"cell_size_m", s.cell_size_m},
-          {"morale_radius_m", s.morale_radius_m},
-          {"morale_refresh_ticks", s.morale_refresh_ticks}};
+Json settings(const WorldSettings& s) {
+  Json j = Json::object();
+  for (const auto& f : detail::kSettingFields) {
+    switch (f.type) {
+      case detail::SettingField::Type::f64: j[f.key] = s.*f.f64; break;
+      case detail::SettingField::Type::u32: j[f.key] = s.*f.u32; break;
+      case detail::SettingField::Type::boolean: j[f.key] = s.*f.boolean; break;
+    }
+  }
+  return j;
 }
 
-nlohmann::json params(const std::map<std::string, double>& p) {
-  nlohmann::json j = nlohmann::json::object();
+Json params(const std::map<std::string, double>& p) {
+  Json j = Json::object();
   for (const auto& [k, v] : p) j[k] = v;
   return j;
 }
 
-nlohmann::json scenery(const Scenery& s) {
-  nlohmann::json j = {{"type", detail::kind_name(detail::kSceneryKinds, s.kind)}, {"archetype", s.archetype}};
+Json scenery(const Scenery& s) {
+  Json j = {{"type", detail::kind_name(detail::kSceneryKinds, s.kind)}, {"archetype", s.archetype}};
   switch (s.kind) {
     case SceneryKind::box:
       j["centre"] = vec(s.centre);
@@ -47,9 +51,9 @@ nlohmann::json scenery(const Scenery& s) {
       j["half_height_m"] = s.half_height_m;
       break;
     case SceneryKind::mesh: {
-      j["vertices"] = nlohmann::json::array();
+      j["vertices"] = Json::array();
       for (const auto& v : s.vertices) j["vertices"].push_back(vec(v));
-      j["triangles"] = nlohmann::json::array();
+      j["triangles"] = Json::array();
       for (const auto& t : s.triangles) j["triangles"].push_back({t[0], t[1], t[2]});
       break;
     }
@@ -58,8 +62,8 @@ nlohmann::json scenery(const Scenery& s) {
   return j;
 }
 
-nlohmann::json shape(const SpawnShape& s) {
-  nlohmann::json j = {{"type", detail::kind_name(detail::kShapeKinds, s.kind)}};
+Json shape(const SpawnShape& s) {
+  Json j = {{"type", detail::kind_name(detail::kShapeKinds, s.kind)}};
   switch (s.kind) {
     case ShapeKind::disk:
       j["centre"] = vec(s.centre);
@@ -81,8 +85,8 @@ nlohmann::json shape(const SpawnShape& s) {
   return j;
 }
 
-nlohmann::json behaviour(const Behaviour& b) {
-  nlohmann::json j = {{"type", detail::kind_name(detail::kBehaviourKinds, b.kind)}};
+Json behaviour(const Behaviour& b) {
+  Json j = {{"type", detail::kind_name(detail::kBehaviourKinds, b.kind)}};
   switch (b.kind) {
     case BehaviourKind::idle:
       break;
@@ -101,27 +105,28 @@ nlohmann::json behaviour(const Behaviour& b) {
   return j;
 }
 
-nlohmann::json spawn(const SpawnGroup& g) {
-  nlohmann::json j = {{"name", g.name},
-                      {"count", g.count},
-                      {"shape", shape(g.shape)},
-                      {"radius_m", g.radius_m},
-                      {"half_height_m", g.half_height_m},
-                      {"archetype", g.archetype},
-                      {"grounded", g.grounded},
-                      {"collision_id", g.collision_id},
-                      {"behaviour", behaviour(g.behaviour)}};
-  if (g.z_m) j["z_m"] = *g.z_m;
+Json spawn(const SpawnGroup& g) {
+  Json j;
+  j["name"] = g.name;
+  j["count"] = g.count;
+  j["shape"] = shape(g.shape);
+  j["radius_m"] = g.radius_m;
+  j["half_height_m"] = g.half_height_m;
+  j["archetype"] = g.archetype;
   if (g.faction) j["faction"] = *g.faction;
   if (g.group) j["group"] = *g.group;
+  if (g.z_m) j["z_m"] = *g.z_m;
+  j["grounded"] = g.grounded;
+  j["collision_id"] = g.collision_id;
   if (!g.params.empty()) j["params"] = params(g.params);
+  j["behaviour"] = behaviour(g.behaviour);
   return j;
 }
 
 }  // namespace
 
-nlohmann::json scene_to_json(const SceneDef& s) {
-  nlohmann::json j = {{"version", kSceneFormatVersion},
+Json scene_to_json(const SceneDef& s) {
+  Json j = {{"version", kSceneFormatVersion},
                       {"name", s.name},
                       {"description", s.description},
                       {"ticks", s.ticks},
@@ -129,11 +134,13 @@ nlohmann::json scene_to_json(const SceneDef& s) {
                       {"settings", settings(s.settings)},
                       {"params", source(s.params)},
                       {"policy", source(s.policy)}};
-  j["scenery"] = nlohmann::json::array();
+  j["scenery"] = Json::array();
   for (const auto& x : s.scenery) j["scenery"].push_back(scenery(x));
-  j["spawns"] = nlohmann::json::array();
+  j["spawns"] = Json::array();
   for (const auto& g : s.spawns) j["spawns"].push_back(spawn(g));
   return j;
 }
+
+std::string scene_to_text(const SceneDef& scene) { return detail::pretty_json(scene_to_json(scene), 100) + "\n"; }
 
 }  // namespace throng::scene

@@ -7,6 +7,7 @@
 
 #include "field_reader.h"
 #include "kind_names.h"
+#include "settings_fields.h"
 #include "throng/core/object_id.h"
 #include "throng/params/object_params.h"
 #include "throng/scene/scene_error.h"
@@ -51,18 +52,22 @@ E read_kind(FieldReader& r, const std::array<std::pair<E, std::string_view>, N>&
 WorldSettings read_settings(const nlohmann::json& j, const std::string& path) {
   FieldReader r(j, path);
   WorldSettings s;  // defaults for absent keys
-  s.dt_s = r.number("dt_s", s.dt_s, 1e-4, 1.0);
-  s.iterations = static_cast<std::uint32_t>(r.integer("iterations", s.iterations, 256));
-  if (s.iterations < 1) throw SceneError(r.path_of("iterations"), "must be >= 1");
-  s.contact_margin_m = r.number("contact_margin_m", s.contact_margin_m, 0.0, 10.0);
-  s.converged_pen_over_radius = r.number("converged_pen_over_radius", s.converged_pen_over_radius, 0.0, 1.0);
-  s.warm_start = r.boolean("warm_start", s.warm_start);
-  s.max_candidates_per_body = static_cast<std::uint32_t>(r.integer("max_candidates_per_body", s.max_candidates_per_body, 4096));
-  if (s.max_candidates_per_body < 4) throw SceneError(r.path_of("max_candidates_per_body"), "must be >= 4");
-  s.cell_size_m = r.number("cell_size_m", s.cell_size_m, 0.0, 1000.0);
-  s.morale_radius_m = r.number("morale_radius_m", s.morale_radius_m, 0.1, 1000.0);
-  s.morale_refresh_ticks = static_cast<std::uint32_t>(r.integer("morale_refresh_ticks", s.morale_refresh_ticks, 3600));
-  if (s.morale_refresh_ticks < 1) throw SceneError(r.path_of("morale_refresh_ticks"), "must be >= 1");
+  for (const auto& f : detail::kSettingFields) {
+    switch (f.type) {
+      case detail::SettingField::Type::f64:
+        s.*f.f64 = r.number(f.key, s.*f.f64, f.min, f.max);
+        break;
+      case detail::SettingField::Type::u32: {
+        const auto v = r.integer(f.key, s.*f.u32, static_cast<std::uint64_t>(f.max));
+        if (static_cast<double>(v) < f.min) throw SceneError(r.path_of(f.key), "must be >= " + detail::format_number(f.min));
+        s.*f.u32 = static_cast<std::uint32_t>(v);
+        break;
+      }
+      case detail::SettingField::Type::boolean:
+        s.*f.boolean = r.boolean(f.key, s.*f.boolean);
+        break;
+    }
+  }
   r.finish();
   // The World's own check is the authority on ranges; ours above only give better paths.
   try {
@@ -114,7 +119,8 @@ std::vector<std::array<std::uint32_t, 3>> read_triangles(const nlohmann::json* j
     if (!t.is_array() || t.size() != 3) throw SceneError(p, "must be an array of 3 vertex indices");
     std::array<std::uint32_t, 3> tri{};
     for (std::size_t k = 0; k < 3; ++k) {
-      if (!t[k].is_number_unsigned() || t[k].get<std::uint64_t>() >= vertex_count)
+      const bool index = t[k].is_number_integer() && (t[k].is_number_unsigned() || t[k].get<std::int64_t>() >= 0);
+      if (!index || t[k].get<std::uint64_t>() >= vertex_count)
         throw SceneError(p + "[" + std::to_string(k) + "]",
                          "must be a vertex index in [0, " + std::to_string(vertex_count) + ")");
       tri[k] = static_cast<std::uint32_t>(t[k].get<std::uint64_t>());

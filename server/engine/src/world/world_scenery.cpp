@@ -2,6 +2,7 @@
 // virtual planes against fixed bodies, including soft ones), and a last check after the solve.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "throng/params/soft_push.h"
 #include "world/world_impl.h"
@@ -18,6 +19,30 @@ std::uint64_t scenery_cell_key(double x, double y, double inv_cell) {
 
 geom::Capsule body_capsule(double x, double y, double z, double hh, double r) {
   return geom::Capsule{{x, y, z - hh}, {x, y, z + hh}, r};
+}
+
+// A grounded body cannot leave a fixed shape upwards. When the shortest way out is vertical:
+//  - centre above the shape's top: it stands on the shape (a ledge): support, not a contact;
+//  - otherwise it is embedded (spawned or teleported inside): it gets a horizontal way out, away
+//    from the shape's centre, far enough to clear the shape's box. Conservative for boxes and
+//    cylinders; deterministic (+x when the centres coincide).
+// Returns false when the contact is support and must be ignored.
+bool grounded_contact(const geom::Aabb& box, double x, double y, double z, double r, geom::SceneryContact& c) {
+  const double h2 = c.normal.x * c.normal.x + c.normal.y * c.normal.y;
+  if (h2 >= 0.09) return true;
+  if (z >= box.hi.z) return false;
+  double ux = x - 0.5 * (box.lo.x + box.hi.x), uy = y - 0.5 * (box.lo.y + box.hi.y);
+  const double len = std::sqrt(ux * ux + uy * uy);
+  if (len > 1e-12) { ux /= len; uy /= len; } else { ux = 1.0; uy = 0.0; }
+  // Distance along u from the body's centre to where the box ends (ray exit), plus the radius.
+  double exit = std::numeric_limits<double>::infinity();
+  if (ux > 0.0) exit = std::min(exit, (box.hi.x - x) / ux);
+  if (ux < 0.0) exit = std::min(exit, (box.lo.x - x) / ux);
+  if (uy > 0.0) exit = std::min(exit, (box.hi.y - y) / uy);
+  if (uy < 0.0) exit = std::min(exit, (box.lo.y - y) / uy);
+  c.normal = {ux, uy, 0.0};
+  c.depth = std::max(0.0, exit) + r;
+  return true;
 }
 
 }  // namespace
@@ -64,7 +89,11 @@ void World::Impl::build_scenery_planes() {
     contacts.clear();
     // Inflated by the margin so a wall the crowd may push this body into is already a plane.
     scenery.query(body_capsule(sb.x[s], sb.y[s], sb.z[s], sb.hh[s], sb.r[s] + margin), contacts);
-    for (const geom::SceneryContact& c : contacts) {
+    for (geom::SceneryContact& c : contacts) {
+      if (sb.grounded[s] &&
+          !grounded_contact(scenery.aabb(c.shape), sb.x[s], sb.y[s], sb.z[s], sb.r[s] + margin, c)) {
+        continue;
+      }
       const double depth = c.depth - margin;  // > 0: penetrating now
       const double dot_now = c.normal.x * sb.x[s] + c.normal.y * sb.y[s] + c.normal.z * sb.z[s];
       double share = 1.0;
@@ -106,12 +135,15 @@ void World::Impl::verify_scenery_after_solve() {
       }
     }
     scenery.query(body_capsule(bodies.x[i], bodies.y[i], bodies.z[i], bodies.hh[i], bodies.r[i]), contacts);
-    for (const geom::SceneryContact& c : contacts) {
+    for (geom::SceneryContact& c : contacts) {
       if (fixed_params[c.shape].softness > 0.0) continue;
+      if (bodies.grounded[i] &&
+          !grounded_contact(scenery.aabb(c.shape), bodies.x[i], bodies.y[i], bodies.z[i], bodies.r[i], c)) {
+        continue;
+      }
       double nx = c.normal.x, ny = c.normal.y, nz = c.normal.z, d = c.depth;
       if (bodies.grounded[i]) {
         const double h2 = nx * nx + ny * ny;
-        if (h2 < 0.09) continue;
         d /= std::sqrt(h2);
         const double h = std::sqrt(h2);
         nx /= h; ny /= h; nz = 0.0;

@@ -18,7 +18,9 @@ struct StepStats {
   std::uint32_t capped_bodies = 0;     // bodies that hit max_candidates_per_body
   std::uint32_t tunnel_clamps = 0;     // fast moves shortened by the swept test
   std::uint32_t pile_relief_bodies = 0;  // bodies laid out afresh from a degenerate pile
-  double max_pen_over_radius = 0.0;    // after the last iteration, over candidate pairs
+  // Deepest pair or plane met during the last sweep, before that sweep's own corrections (so it
+  // reads higher than an after-tick measurement; throng-bench reports both).
+  double max_pen_over_radius = 0.0;
 };
 
 }  // namespace throng

@@ -1,0 +1,27 @@
+#include "report.h"
+
+#include <fmt/core.h>
+
+namespace throng::bench {
+
+void print_summary(std::FILE* out, const RunResult& r) {
+  fmt::print(out, "scene      {} ({} agents, {} ticks after {} warmup, {} iterations)\n", r.scene, r.agents, r.ticks,
+             r.warmup, r.iterations);
+  fmt::print(out, "tick       median {:.0f} us, p95 {:.0f} us, max {:.0f} us ({:.3f} us per agent)\n", r.tick_us.median,
+             r.tick_us.p95, r.tick_us.max, r.us_per_agent());
+  fmt::print(out, "phases     move {:.0f}, params {:.0f}, broadphase {:.0f}, solve {:.0f} us (medians); driver {:.0f} us\n",
+             r.move_us_median, r.params_us_median, r.broadphase_us_median, r.solve_us_median, r.driver_us_median);
+  fmt::print(out, "solver     {:.0f} candidate pairs (median), {:.2f} iterations used (mean), {} capped bodies (max), {} "
+                  "tunnel clamps, own max pen/r {:.4g}\n",
+             r.candidate_pairs_median, r.iterations_used_mean, r.capped_bodies_max, r.tunnel_clamps_total,
+             r.solver_max_pen_over_radius_last);
+  fmt::print(out, "residual   max pen/r {:.4g}, p99 pen/r {:.4g}, {} pairs over 1% (independent check, {} pair tests)\n",
+             r.residual.max_pen_over_radius, r.residual.p99_pen_over_radius, r.residual.pairs_over_1pct,
+             r.residual.pair_tests);
+  fmt::print(out, "scenery    max pen/r {:.4g}\n", r.static_pen_max_over_radius);
+  fmt::print(out, "nan        {}\n", r.residual.nan_count);
+  fmt::print(out, "hash       {}\n", hash_hex(r.state_hash));
+  fmt::print(out, "time       build {:.2f} s, run {:.2f} s\n", r.build_s, r.wall_s);
+}
+
+}  // namespace throng::bench

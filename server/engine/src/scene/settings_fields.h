@@ -1,0 +1,48 @@
+#pragma once
+// The WorldSettings fields a scene file can set: one row each, used by the parser, the writer and
+// SceneDef::operator==, so a new setting is one line here (in world_settings.h order, with its
+// documented range). Ranges are re-checked by WorldSettings::validate(), the authority; ours only
+// give the error its exact JSON path.
+#include <array>
+#include <cstdint>
+
+#include "throng/world/world_settings.h"
+
+namespace throng::scene::detail {
+
+struct SettingField {
+  enum class Type : std::uint8_t { f64, u32, boolean };
+  const char* key;
+  Type type;
+  double WorldSettings::*f64 = nullptr;
+  std::uint32_t WorldSettings::*u32 = nullptr;
+  bool WorldSettings::*boolean = nullptr;
+  double min = 0.0;
+  double max = 0.0;
+};
+
+constexpr SettingField real(const char* key, double WorldSettings::*m, double lo, double hi) {
+  return {key, SettingField::Type::f64, m, nullptr, nullptr, lo, hi};
+}
+constexpr SettingField whole(const char* key, std::uint32_t WorldSettings::*m, double lo, double hi) {
+  return {key, SettingField::Type::u32, nullptr, m, nullptr, lo, hi};
+}
+constexpr SettingField flag(const char* key, bool WorldSettings::*m) {
+  return {key, SettingField::Type::boolean, nullptr, nullptr, m, 0.0, 1.0};
+}
+
+inline constexpr std::array kSettingFields{
+    real("dt_s", &WorldSettings::dt_s, 1e-4, 1.0),
+    whole("iterations", &WorldSettings::iterations, 1, 256),
+    real("contact_margin_m", &WorldSettings::contact_margin_m, 0.0, 10.0),
+    real("converged_pen_over_radius", &WorldSettings::converged_pen_over_radius, 0.0, 1.0),
+    flag("record_push_events", &WorldSettings::record_push_events),
+    flag("warm_start", &WorldSettings::warm_start),
+    real("blocked_motion_carry", &WorldSettings::blocked_motion_carry, 0.0, 0.99),
+    whole("max_candidates_per_body", &WorldSettings::max_candidates_per_body, 4, 4096),
+    real("cell_size_m", &WorldSettings::cell_size_m, 0.0, 1000.0),
+    real("morale_radius_m", &WorldSettings::morale_radius_m, 0.1, 1000.0),
+    whole("morale_refresh_ticks", &WorldSettings::morale_refresh_ticks, 1, 3600),
+};
+
+}  // namespace throng::scene::detail
