@@ -21,9 +21,7 @@ std::string_view family_name(PairFamily f) {
   return "?";
 }
 
-double CapsulePairGenerator::uniform01() {
-  return static_cast<double>(rng_() >> 11) * 0x1.0p-53;
-}
+double CapsulePairGenerator::uniform01() { return static_cast<double>(rng_() >> 11) * 0x1.0p-53; }
 
 double CapsulePairGenerator::uniform(double lo, double hi) { return lo + (hi - lo) * uniform01(); }
 
@@ -48,7 +46,10 @@ Vec3 CapsulePairGenerator::unit_perpendicular(const Vec3& u) {
 }
 
 Capsule CapsulePairGenerator::random_capsule(const Vec3& centre) {
-  const Vec3 axis = unit_vector() * uniform(0.05, 1.0);  // half axis
+  // One draw per statement: the order of evaluation of operands is unspecified in C++, and the
+  // pairs must not depend on the compiler.
+  const Vec3 direction = unit_vector();
+  const Vec3 axis = direction * uniform(0.05, 1.0);  // half axis
   return {centre - axis, centre + axis, uniform(0.05, 0.6)};
 }
 
@@ -78,7 +79,9 @@ CapsulePair CapsulePairGenerator::next(PairFamily family) {
       const double k = kScale[static_cast<int>(uniform01() * 4.0) & 3];
       const Vec3 u = d1 * (1.0 / length(d1));
       const double lateral = uniform01() < 0.25 ? 0.0 : uniform(0.0, 1.5);  // 1/4 collinear
-      const Vec3 start = p.a.p0 + u * uniform(-2.0, 2.0) + unit_perpendicular(u) * lateral;
+      const double along = uniform(-2.0, 2.0);
+      const Vec3 side = unit_perpendicular(u);
+      const Vec3 start = p.a.p0 + u * along + side * lateral;
       p.b = {start, start + d1 * k, uniform(0.05, 0.6)};
       break;
     }
@@ -95,7 +98,10 @@ CapsulePair CapsulePairGenerator::next(PairFamily family) {
         const double before = uniform(0.0, 1.0) * len;
         p.b = {x - v * before, x + v * (len - before), uniform(0.05, 0.6)};
       } else {
-        const Vec3 start = p.a.p0 + u * uniform(-1.0, 1.0) + unit_perpendicular(u) * uniform(0.0, 1.2);
+        const double along = uniform(-1.0, 1.0);
+        const Vec3 side = unit_perpendicular(u);
+        const double offset = uniform(0.0, 1.2);
+        const Vec3 start = p.a.p0 + u * along + side * offset;
         p.b = {start, start + v * len, uniform(0.05, 0.6)};
       }
       break;
@@ -112,8 +118,8 @@ CapsulePair CapsulePairGenerator::next(PairFamily family) {
       const double pick = uniform01();
       p.a = random_capsule(cube(1.0));
       p.b = random_capsule(cube(1.0));
-      if (pick < 0.5) p.b.p1 = p.b.p0;  // sphere vs capsule
-      if (pick >= 0.25) p.a.p1 = p.a.p0;  // capsule vs sphere, or sphere vs sphere
+      if (pick < 0.5) p.b.p1 = p.b.p0;            // sphere vs capsule
+      if (pick >= 0.25) p.a.p1 = p.a.p0;          // capsule vs sphere, or sphere vs sphere
       if (pick >= 0.9) p.b.p0 = p.b.p1 = p.a.p0;  // coincident centres
       break;
     }

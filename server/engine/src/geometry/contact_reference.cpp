@@ -52,18 +52,20 @@ ReferenceContact capsule_capsule_reference(const Capsule& a, const Capsule& b) {
   const L nn = dotl(n, n);
   if (nn > 0.0L) {
     // Interior stationary point of the line pair, from s d1 - t d2 - lambda n = -w:
-    //   s = ((w x d2) . n) / |n|^2,   t = ((w x d1) . n) / |n|^2.
+    //   s = ((w x d2) . n) / |n|^2, then t by projecting P(s) onto line 2. (Computing t from its
+    //   own cross-product formula instead would put the two independent rounding errors across
+    //   the valley of F for nearly parallel axes: 7e-11 m error at 2.6e-10 rad in testing.)
     const L s = dotl(crossl(w, d2), n) / nn;
-    const L t = dotl(crossl(w, d1), n) / nn;
+    const L t = (s * dotl(d1, d2) - dotl(w, d2)) / ee;
     if (s >= 0.0L && s <= 1.0L && t >= 0.0L && t <= 1.0L) cand[count++] = {s, t};
   }
   const L wd1 = dotl(w, d1);
   const L wd2 = dotl(w, d2);
   const L b12 = dotl(d1, d2);
-  cand[count++] = {0.0L, ee > 0.0L ? clamp01(-wd2 / ee) : 0.0L};          // edge s = 0
-  cand[count++] = {1.0L, ee > 0.0L ? clamp01((b12 - wd2) / ee) : 0.0L};   // edge s = 1
-  cand[count++] = {aa > 0.0L ? clamp01(wd1 / aa) : 0.0L, 0.0L};           // edge t = 0
-  cand[count++] = {aa > 0.0L ? clamp01((wd1 + b12) / aa) : 0.0L, 1.0L};   // edge t = 1
+  cand[count++] = {0.0L, ee > 0.0L ? clamp01(-wd2 / ee) : 0.0L};         // edge s = 0
+  cand[count++] = {1.0L, ee > 0.0L ? clamp01((b12 - wd2) / ee) : 0.0L};  // edge s = 1
+  cand[count++] = {aa > 0.0L ? clamp01(wd1 / aa) : 0.0L, 0.0L};          // edge t = 0
+  cand[count++] = {aa > 0.0L ? clamp01((wd1 + b12) / aa) : 0.0L, 1.0L};  // edge t = 1
 
   int best = 0;
   L best_f = 0.0L;

@@ -2,13 +2,14 @@
 // The formatting of the results lives in validation_report.cpp.
 #include "throng/geometry/contact_validation.h"
 
-#include <algorithm>
-#include <array>
-#include <cmath>
-
 #include <fcl/geometry/shape/sphere.h>
 #include <fcl/narrowphase/collision.h>
 #include <fcl/narrowphase/distance.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <utility>
 
 #include "fcl_shapes.h"
 #include "throng/geometry/capsule_contact.h"
@@ -40,7 +41,9 @@ struct Samples {
 struct CollideAcc {
   FclCollideStats stats;
   Samples depth;
+  Samples abs_depth;
   Samples normal;
+  Samples axis;
 };
 
 struct FamilyAcc {
@@ -101,7 +104,7 @@ ExactNormal exact_normal(const ReferenceContact& r, const Capsule& a, const Caps
   return e;
 }
 
-double angle_to(const Vec3& n, const ExactNormal& e) {
+double angle_to(const Vec3& n, const ExactNormal& e, bool ignore_sign = false) {
   auto chord = [&](L sign) {
     const L dx = L(n.x) - sign * e.n[0];
     const L dy = L(n.y) - sign * e.n[1];
@@ -109,7 +112,7 @@ double angle_to(const Vec3& n, const ExactNormal& e) {
     return std::sqrt(dx * dx + dy * dy + dz * dz);
   };
   L c = chord(1.0L);
-  if (e.sign_agnostic) c = std::min(c, chord(-1.0L));
+  if (e.sign_agnostic || ignore_sign) c = std::min(c, chord(-1.0L));
   return static_cast<double>(2.0L * std::asin(std::min(L(1), c / 2.0L)));
 }
 
@@ -121,8 +124,9 @@ double coordinate_scale(const Capsule& a, const Capsule& b) {
   return m;
 }
 
-void run_collide(const FclShape& fa, const FclShape& fb, fcl::GJKSolverType solver,
-                 const ReferenceContact& ref, const ExactNormal& en, CollideAcc& acc) {
+void run_collide(const Capsule& a, const Capsule& b, const FclShape& fa, const FclShape& fb,
+                 fcl::GJKSolverType solver, const ReferenceContact& ref, const ExactNormal& en,
+                 CollideAcc& acc) {
   fcl::CollisionRequestd request(1, true);
   request.gjk_solver_type = solver;
   fcl::CollisionResultd result;
@@ -139,13 +143,21 @@ void run_collide(const FclShape& fa, const FclShape& fb, fcl::GJKSolverType solv
     if (c.penetration_depth < 0.0) wrong_sign = true;
     const double depth_error = std::fabs(c.penetration_depth + exact);
     acc.depth.add(depth_error);
+    acc.abs_depth.add(std::fabs(std::fabs(c.penetration_depth) + exact));
     bad_depth = !(depth_error <= kFclDepthTolerance);
     // FCL: normal from its o1 to its o2; we passed a first, so it should point a -> b like ours.
-    const fcl::Vector3d n = c.o1 == fa.geometry() ? c.normal : fcl::Vector3d(-c.normal);
+    const Vec3 n = detail::from_fcl(c.o1 == fa.geometry() ? c.normal : fcl::Vector3d(-c.normal));
     if (en.defined) {
-      const double ne = angle_to(detail::from_fcl(n), en);
+      const double ne = angle_to(n, en);
       acc.normal.add(ne);
+      acc.axis.add(angle_to(n, en, true));
       bad_normal = !(ne <= kFclNormalTolerance);
+    }
+    // Is FCL's answer at least a separating translation (if not the shortest)?
+    const Vec3 shift = n * c.penetration_depth;
+    const Capsule moved_b{b.p0 + shift, b.p1 + shift, b.radius};
+    if (capsule_capsule_reference(a, moved_b).distance < -kFclDepthTolerance) {
+      ++acc.stats.not_separating;
     }
   }
   acc.stats.wrong_sign += wrong_sign ? 1 : 0;
@@ -179,22 +191,27 @@ void evaluate(const CapsulePair& p, FamilyAcc& acc) {
   // FCL.
   const FclShape fa(a);
   const FclShape fb(b);
-  fcl::DistanceRequestd dreq(true, true);  // nearest points, signed; libccd (the default)
-  fcl::DistanceResultd dres;
-  const double fd = fcl::distance(fa.geometry(), fa.pose, fb.geometry(), fb.pose, dreq, dres);
-  const double fd_err = static_cast<double>(std::fabs(static_cast<L>(fd) - ref.distance));
-  acc.fcl_distance.add(fd_err);
-  if (!(fd_err <= kFclDistanceTolerance)) ++out.fcl_distance_failures;
-  run_collide(fa, fb, fcl::GST_LIBCCD, ref, en, acc.mpr);
+  if (ref.distance > 0.0L) {
+    ++out.separated;
+    const fcl::DistanceRequestd dreq;  // libccd, unsigned: never signed (see contact_validation.h)
+    fcl::DistanceResultd dres;
+    const double fd = fcl::distance(fa.geometry(), fa.pose, fb.geometry(), fb.pose, dreq, dres);
+    const double fd_err = static_cast<double>(std::fabs(static_cast<L>(fd) - ref.distance));
+    acc.fcl_distance.add(fd_err);
+    if (!(fd_err <= kFclDistanceTolerance)) ++out.fcl_distance_failures;
+  }
+  run_collide(a, b, fa, fb, fcl::GST_LIBCCD, ref, en, acc.mpr);
   // Never fcl::distance with GST_INDEP and signed distance: FCL 0.7 then asserts (aborts) when
   // EPA reports no contact for a penetrating pair. collide() is safe.
-  run_collide(fa, fb, fcl::GST_INDEP, ref, en, acc.epa);
+  run_collide(a, b, fa, fb, fcl::GST_INDEP, ref, en, acc.epa);
 }
 
 FclCollideStats finish(const CollideAcc& acc) {
   FclCollideStats s = acc.stats;
   s.depth_error = acc.depth.stats();
+  s.abs_depth_error = acc.abs_depth.stats();
   s.normal_error = acc.normal.stats();
+  s.axis_error = acc.axis.stats();
   return s;
 }
 
@@ -212,6 +229,7 @@ void add_counts(FclCollideStats& to, const FclCollideStats& from) {
   to.bad_depth += from.bad_depth;
   to.bad_normal += from.bad_normal;
   to.failed_pairs += from.failed_pairs;
+  to.not_separating += from.not_separating;
 }
 
 }  // namespace
@@ -242,15 +260,18 @@ ContactValidation run_contact_validation(std::size_t pairs, std::uint64_t seed) 
     all.out.closed_bound_violations += a.out.closed_bound_violations;
     all.out.closed_bad_output += a.out.closed_bad_output;
     all.out.fcl_distance_failures += a.out.fcl_distance_failures;
+    all.out.separated += a.out.separated;
     add_counts(all.mpr.stats, a.mpr.stats);
     add_counts(all.epa.stats, a.epa.stats);
     all.closed_distance.append(a.closed_distance);
     all.closed_normal.append(a.closed_normal);
     all.fcl_distance.append(a.fcl_distance);
-    all.mpr.depth.append(a.mpr.depth);
-    all.mpr.normal.append(a.mpr.normal);
-    all.epa.depth.append(a.epa.depth);
-    all.epa.normal.append(a.epa.normal);
+    for (auto [to, from] : {std::pair{&all.mpr, &a.mpr}, std::pair{&all.epa, &a.epa}}) {
+      to->depth.append(from->depth);
+      to->abs_depth.append(from->abs_depth);
+      to->normal.append(from->normal);
+      to->axis.append(from->axis);
+    }
     finish(a);
     v.families.push_back(std::move(a.out));
   }

@@ -1,10 +1,11 @@
 #pragma once
 // Private bridge between throng geometry and FCL: conversions and the FCL pose of a capsule.
 // Only .cpp files under src/geometry include this (FCL is a PRIVATE dependency of the engine).
-#include <Eigen/Geometry>
 #include <fcl/geometry/shape/capsule.h>
 #include <fcl/math/constants.h>
 #include <fcl/math/geometry.h>
+
+#include <Eigen/Geometry>
 
 #include "throng/core/vec3.h"
 #include "throng/geometry/capsule.h"

@@ -19,8 +19,8 @@ struct Footprint {
   double outside = 0.0;  // distance from the point to the footprint (0 when inside or on it)
   double ox = 0.0;       // unit horizontal direction footprint -> point (when outside > 0)
   double oy = 0.0;
-  double inside = 0.0;   // distance from the point to the footprint boundary (when inside)
-  double ix = 1.0;       // unit horizontal direction of the nearest way out (when inside)
+  double inside = 0.0;  // distance from the point to the footprint boundary (when inside)
+  double ix = 1.0;      // unit horizontal direction of the nearest way out (when inside)
   double iy = 0.0;
 };
 

@@ -9,8 +9,7 @@ namespace {
 
 // z where the vertical line through (x, y) crosses triangle (a, b, c), if it does (edges
 // included). Vertical triangles (zero area in xy) have no single crossing height: skipped.
-bool vertical_line_hit(const Vec3& a, const Vec3& b, const Vec3& c, double x, double y,
-                       double& z) {
+bool vertical_line_hit(const Vec3& a, const Vec3& b, const Vec3& c, double x, double y, double& z) {
   // Signed areas of the sub-triangles opposite each vertex (barycentric numerators).
   const double wa = (b.x - x) * (c.y - y) - (c.x - x) * (b.y - y);
   const double wb = (c.x - x) * (a.y - y) - (a.x - x) * (c.y - y);

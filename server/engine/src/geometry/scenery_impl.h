@@ -1,15 +1,15 @@
 #pragma once
 // Private state of StaticScenery, shared by the .cpp files that implement its queries.
-#include <cstdint>
-#include <memory>
-#include <vector>
-
 #include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
 #include <fcl/geometry/collision_geometry.h>
 #include <fcl/geometry/shape/box.h>
 #include <fcl/narrowphase/collision_object.h>
 #include <fcl/narrowphase/collision_request.h>
 #include <fcl/narrowphase/collision_result.h>
+
+#include <cstdint>
+#include <memory>
+#include <vector>
 
 #include "scenery_shapes.h"
 #include "throng/geometry/static_scenery.h"
@@ -45,9 +45,14 @@ UprightCore upright_core(const Capsule& c);
 Aabb capsule_aabb(const Capsule& c);
 void validate_mover(const Capsule& c, const char* where);
 
-// FCL narrowphase (libccd MPR) for tilted movers and meshes; deepest contact wins.
-SignedPenetration fcl_penetration(const ShapeRecord& shape, const Capsule& mover,
-                                  QueryScratch& scratch);
+// Tilted mover vs box (box != nullptr) or cylinder: exact core distance by bisection,
+// FCL MPR once the core reaches the shape.
+SignedPenetration tilted_penetration(const ShapeRecord& shape, const BoxShape* box,
+                                     const CylinderShape* cylinder, const Capsule& mover,
+                                     QueryScratch& scratch);
+// Any mover vs a mesh: FCL's BVH picks the overlapped triangles, exact contact per triangle.
+SignedPenetration mesh_penetration(const ShapeRecord& shape, const MeshShape& mesh,
+                                   const Capsule& mover, QueryScratch& scratch);
 
 }  // namespace detail
 
@@ -61,12 +66,14 @@ struct StaticScenery::Impl {
   bool built = false;
 
   std::uint32_t add(ShapeKind kind, std::uint32_t slot, const Aabb& box,
-                    std::shared_ptr<fcl::CollisionGeometryd> geometry, const fcl::Transform3d& pose);
+                    std::shared_ptr<fcl::CollisionGeometryd> geometry,
+                    const fcl::Transform3d& pose);
   void require_built(const char* where) const;
   // Indices (ascending) of the shapes whose AABB overlaps `box` (touching counts).
   void gather(const Aabb& box, detail::QueryScratch& scratch) const;
-  // Signed penetration of the mover into one shape; exact closed form for upright movers against
-  // boxes and cylinders, FCL otherwise.
+  // Signed penetration of the mover into one shape: exact closed forms for upright movers against
+  // boxes and cylinders and for meshes; for tilted movers against boxes and cylinders an exact
+  // numeric core distance, or FCL MPR once the core is inside.
   detail::SignedPenetration penetration(std::uint32_t shape, const Capsule& mover, bool upright,
                                         detail::QueryScratch& scratch) const;
 };

@@ -1,10 +1,10 @@
 // StaticScenery::first_hit_fraction: how far a fast mover may go along its displacement.
 //
 // Sampling + bisection rather than conservative advancement: conservative advancement needs a
-// separation distance from every shape, which FCL's meshes and MPR do not give cheaply, and it
+// separation distance from every shape (the penetration queries here only give depths), and it
 // crawls when a mover slides along a wall. Samples at most radius / 2 apart cannot step over any
-// shape thicker than zero: between two samples the mover moves by less than its own radius, so a
-// wall it would cross is overlapped by at least one sample. Bisection then pins the first touch.
+// shape, even a zero-thickness triangle: crossing it means overlapping it over a stretch of at
+// least the mover's diameter, which holds several samples. Bisection then pins the first touch.
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -14,13 +14,16 @@
 namespace throng::geom {
 namespace {
 
-// Depth growth that counts as a hit. Exact closed forms need only rounding slack; FCL's MPR depth
-// jitters by ~1e-7 between nearby poses, so a mover resting against a mesh may still slide.
+// For shapes penetrated at the start: depth growth that counts as a hit. Exact closed forms need
+// only rounding slack; FCL's depth (tilted movers vs boxes and cylinders) jitters between nearby
+// poses, so a tilted mover resting against a wall may still slide along it. Shapes not penetrated
+// at the start are hit at any depth > 0, exactly query()'s criterion, so the pose returned never
+// shows up in query().
 constexpr double kSkinExact = 1e-9;
 constexpr double kSkinFcl = 1e-6;
-constexpr double kMinStep = 1e-3;           // metres; the step for very thin movers
-constexpr long kMaxSamples = 1L << 16;      // cost cap for absurd displacements
-constexpr double kBisectTolerance = 1e-9;   // metres of travel
+constexpr double kMinStep = 1e-3;          // metres; the step for very thin movers
+constexpr long kMaxSamples = 1L << 16;     // cost cap for absurd displacements
+constexpr double kBisectTolerance = 1e-9;  // metres of travel
 
 Capsule moved(const Capsule& c, const Vec3& d, double f) {
   const Vec3 step = d * f;
@@ -44,8 +47,8 @@ double StaticScenery::first_hit_fraction(const Capsule& mover, Vec3 displacement
   if (travel == 0.0) return 1.0;
 
   detail::QueryScratch& s = detail::query_scratch();
-  impl_->gather(merge(detail::capsule_aabb(mover), detail::capsule_aabb(moved(mover, displacement, 1.0))),
-                s);
+  impl_->gather(
+      merge(detail::capsule_aabb(mover), detail::capsule_aabb(moved(mover, displacement, 1.0))), s);
   if (s.candidates.empty()) return 1.0;
 
   // Translation keeps an upright mover upright (x and y shift by the same amount).
@@ -60,9 +63,11 @@ double StaticScenery::first_hit_fraction(const Capsule& mover, Vec3 displacement
     const Capsule c = moved(mover, displacement, f);
     for (std::size_t k = 0; k < s.candidates.size(); ++k) {
       const std::uint32_t i = s.candidates[k];
-      const bool exact = upright && impl_->shapes[i].kind != ShapeKind::kMesh;
-      const double skin = exact ? kSkinExact : kSkinFcl;
-      const double limit = s.baseline[k] > 0.0 ? s.baseline[k] + skin : (exact ? kSkinExact : 0.0);
+      double limit = 0.0;
+      if (s.baseline[k] > 0.0) {
+        const bool exact = upright || impl_->shapes[i].kind == ShapeKind::kMesh;
+        limit = s.baseline[k] + (exact ? kSkinExact : kSkinFcl);
+      }
       if (impl_->penetration(i, c, upright, s).depth > limit) return true;
     }
     return false;

@@ -18,6 +18,7 @@ double clamp01(double v) { return v < 0.0 ? 0.0 : (v > 1.0 ? 1.0 : v); }
 // product the skew-line solve stays accurate far below this, and treating axes this close to
 // parallel as parallel moves the distance by at most length * 1e-14, i.e. rounding level.
 constexpr double kParallelSin = 1e-14;
+constexpr double kAccurateCrossSin2 = 0.01;  // sin^2 of ~5.7 degrees
 
 }  // namespace
 
@@ -41,13 +42,20 @@ SegmentClosest closest_points_segment_segment(const Vec3& p0, const Vec3& p1, co
     s = clamp01(wd1 / a);  // project q0 onto segment 1
   } else {
     const double b = dot(d1, d2);
-    const Vec3 n = detail::accurate_cross(d1, d2);
-    const double nn = dot(n, n);
+    // The plain cross product is accurate to eps / sin(angle) relative; below ~6 degrees redo it
+    // exactly (fma), see accurate_cross.h. The branch depends on the inputs only: deterministic.
+    Vec3 n = cross(d1, d2);
+    double nn = dot(n, n);
+    if (nn < kAccurateCrossSin2 * a * e) {
+      n = detail::accurate_cross(d1, d2);
+      nn = dot(n, n);
+    }
     if (nn > kParallelSin * kParallelSin * a * e) {
       // Skew lines: s of the line-line closest pair is ((w x d2) . n) / |n|^2 (the cross-product
       // form of Ericson's (bf - ce) / (ae - b^2), which cancels catastrophically when nearly
       // parallel). Then Ericson's clamp order: clamp s, best t for it, and if t had to be clamped,
-      // best s for the clamped t. That order is exact for this convex quadratic (KKT holds at exit).
+      // best s for the clamped t. That order is exact for this convex quadratic (KKT holds at
+      // exit).
       s = clamp01(dot(cross(w, d2), n) / nn);
       t = (b * s - wd2) / e;
       if (t < 0.0) {

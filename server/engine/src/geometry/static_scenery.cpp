@@ -2,6 +2,10 @@
 // query. Ground and sweep queries live in scenery_ground.cpp and scenery_sweep.cpp.
 #include "throng/geometry/static_scenery.h"
 
+#include <fcl/geometry/bvh/BVH_model.h>
+#include <fcl/geometry/shape/cylinder.h>
+#include <fcl/math/bv/OBBRSS.h>
+
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
@@ -10,10 +14,6 @@
 #include <stdexcept>
 #include <string>
 #include <utility>
-
-#include <fcl/geometry/bvh/BVH_model.h>
-#include <fcl/geometry/shape/cylinder.h>
-#include <fcl/math/bv/OBBRSS.h>
 
 #include "fcl_shapes.h"
 #include "scenery_closed_form.h"
@@ -166,7 +166,10 @@ detail::SignedPenetration StaticScenery::Impl::penetration(std::uint32_t i, cons
   if (upright && r.kind == ShapeKind::kCylinder) {
     return detail::upright_capsule_vs_cylinder(detail::upright_core(mover), cylinders[r.slot]);
   }
-  return detail::fcl_penetration(r, mover, s);
+  if (r.kind == ShapeKind::kMesh) return detail::mesh_penetration(r, meshes[r.slot], mover, s);
+  if (r.kind == ShapeKind::kBox)
+    return detail::tilted_penetration(r, &boxes[r.slot], nullptr, mover, s);
+  return detail::tilted_penetration(r, nullptr, &cylinders[r.slot], mover, s);
 }
 
 // ---- StaticScenery ------------------------------------------------------------------------------
@@ -193,8 +196,8 @@ std::uint32_t StaticScenery::add_box(Vec3 centre, Vec3 half_extents, double yaw_
   pose.translation() = detail::to_fcl(centre);
   // Same rotation the closed form uses (u = (cos, sin, 0), v = (-sin, cos, 0)).
   pose.linear() << b.cos_yaw, -b.sin_yaw, 0.0, b.sin_yaw, b.cos_yaw, 0.0, 0.0, 0.0, 1.0;
-  auto geometry = std::make_shared<fcl::Boxd>(2.0 * half_extents.x, 2.0 * half_extents.y,
-                                              2.0 * half_extents.z);
+  auto geometry =
+      std::make_shared<fcl::Boxd>(2.0 * half_extents.x, 2.0 * half_extents.y, 2.0 * half_extents.z);
   const auto slot = static_cast<std::uint32_t>(impl_->boxes.size());
   impl_->boxes.push_back(b);
   return impl_->add(ShapeKind::kBox, slot, {centre - ext, centre + ext}, std::move(geometry), pose);
@@ -286,7 +289,8 @@ bool StaticScenery::built() const { return impl_->built; }
 std::size_t StaticScenery::size() const { return impl_->shapes.size(); }
 
 ShapeKind StaticScenery::shape_kind(std::uint32_t shape) const {
-  if (shape >= impl_->shapes.size()) throw std::out_of_range("StaticScenery::shape_kind: no such shape");
+  if (shape >= impl_->shapes.size())
+    throw std::out_of_range("StaticScenery::shape_kind: no such shape");
   return impl_->shapes[shape].kind;
 }
 
