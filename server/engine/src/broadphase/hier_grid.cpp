@@ -2,22 +2,17 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <cmath>
 
 namespace throng::detail {
 namespace {
 
-constexpr std::uint64_t kRow = std::uint64_t{1} << 32;
 constexpr double kCellLimit = 1073741824.0;  // 2^30 cells each way from the origin
 
 std::int64_t cell_coord(double v, double inv_cell) {
   const double c = std::floor(v * inv_cell);
   return static_cast<std::int64_t>(std::clamp(c, -kCellLimit, kCellLimit));
-}
-
-std::uint64_t make_key(std::int64_t cx, std::int64_t cy) {
-  return (static_cast<std::uint64_t>(cy + (std::int64_t{1} << 31)) << 32) |
-         static_cast<std::uint64_t>(cx + (std::int64_t{1} << 31));
 }
 
 // The narrow candidate test: expanded circles in the plane, then the gap between the vertical
@@ -34,8 +29,12 @@ inline bool is_candidate(const GridBodyView& v, std::uint32_t i, std::uint32_t j
 
 }  // namespace
 
-std::uint64_t HierGrid::cell_key(double x, double y, double inv_cell) {
-  return make_key(cell_coord(x, inv_cell), cell_coord(y, inv_cell));
+std::uint64_t HierGrid::level_key(const Level& lv, std::int64_t cx, std::int64_t cy) {
+  const auto col = static_cast<std::uint64_t>(
+      std::clamp<std::int64_t>(cx - lv.min_cx + 1, 0, static_cast<std::int64_t>(lv.stride) - 1));
+  const auto row = static_cast<std::uint64_t>(
+      std::clamp<std::int64_t>(cy - lv.min_cy + 1, 0, static_cast<std::int64_t>(lv.rows) - 1));
+  return row * lv.stride + col;
 }
 
 void HierGrid::build(const double* x, const double* y, const double* r, std::size_t n, double margin_m,
@@ -73,11 +72,23 @@ void HierGrid::build(const double* x, const double* y, const double* r, std::siz
     if (lv.begin == lv.end) continue;
     const double inv = 1.0 / lv.cell_m;
     items_.clear();
+    coords_.clear();
+    std::int64_t min_cx = INT64_MAX, min_cy = INT64_MAX, max_cx = INT64_MIN, max_cy = INT64_MIN;
     for (std::size_t i = 0; i < n; ++i) {
       if (level_of_[i] != l) continue;
-      items_.push_back({cell_key(x[i], y[i], inv), static_cast<std::uint32_t>(i)});
+      const std::int64_t cx = cell_coord(x[i], inv), cy = cell_coord(y[i], inv);
+      coords_.push_back(cx);
+      coords_.push_back(cy);
+      min_cx = std::min(min_cx, cx); max_cx = std::max(max_cx, cx);
+      min_cy = std::min(min_cy, cy); max_cy = std::max(max_cy, cy);
+      items_.push_back({0, static_cast<std::uint32_t>(i)});
       lv.max_reach_m = std::max(lv.max_reach_m, r[i] + margin_m);
     }
+    lv.min_cx = min_cx;
+    lv.min_cy = min_cy;
+    lv.stride = static_cast<std::uint64_t>(max_cx - min_cx) + 3;
+    lv.rows = static_cast<std::uint64_t>(max_cy - min_cy) + 3;
+    for (std::size_t k = 0; k < items_.size(); ++k) items_[k].key = level_key(lv, coords_[2 * k], coords_[2 * k + 1]);
     radix_sort(items_, scratch_);
     std::uint32_t s = lv.begin;
     for (std::size_t k = 0; k < items_.size(); ++k, ++s) {
@@ -96,7 +107,8 @@ std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::ui
     std::size_t up = 0;  // first cell at or after (cx - 1, cy + 1); only moves forward
     for (std::size_t k = 0; k < cells.size(); ++k) {
       const Cell& c = cells[k];
-      const std::uint64_t up_lo = c.key + kRow - 1, up_hi = c.key + kRow + 1;
+      const std::uint64_t stride = levels_[l].stride;
+      const std::uint64_t up_lo = c.key + stride - 1, up_hi = c.key + stride + 1;
       while (up < cells.size() && cells[up].key < up_lo) ++up;
       const Cell* right = (k + 1 < cells.size() && cells[k + 1].key == c.key + 1) ? &cells[k + 1] : nullptr;
       for (std::uint32_t i = c.begin; i < c.end; ++i) {
@@ -126,7 +138,7 @@ std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::ui
         const std::int64_t cx0 = cell_coord(v.x[i] - reach, inv), cx1 = cell_coord(v.x[i] + reach, inv);
         const std::int64_t cy0 = cell_coord(v.y[i] - reach, inv), cy1 = cell_coord(v.y[i] + reach, inv);
         for (std::int64_t cy = cy0; cy <= cy1 && budget > 0; ++cy) {
-          const std::uint64_t lo = make_key(cx0, cy), hi = make_key(cx1, cy);
+          const std::uint64_t lo = level_key(fine, cx0, cy), hi = level_key(fine, cx1, cy);
           auto it = std::lower_bound(fine.cells.begin(), fine.cells.end(), lo,
                                      [](const Cell& cell, std::uint64_t key) { return cell.key < key; });
           for (; it != fine.cells.end() && it->key <= hi && budget > 0; ++it) {
