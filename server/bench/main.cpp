@@ -16,6 +16,7 @@
 #include "report.h"
 #include "run_scene.h"
 #include "sweep.h"
+#include "throng/geometry/contact_validation.h"
 #include "throng/core/object_id.h"
 #include "throng/scene/builtin_scenes.h"
 #include "throng/scene/scale.h"
@@ -37,6 +38,8 @@ struct Cli {
   std::string dump;
   bool list = false;
   std::string sweep_out = "sweep-out";
+  std::size_t validate_pairs = 100000;
+  std::uint64_t validate_seed = 1;
   bool sweep_quick = false;
 };
 
@@ -96,6 +99,12 @@ int main(int argc, char** argv) {
   CLI::App* sweep = app.add_subcommand("sweep", "speed against error on crush: K sweep, N sweep, one_cell ratio");
   sweep->add_option("--out", c.sweep_out, "folder for sweep.json and sweep.svg")->capture_default_str();
   sweep->add_flag("--quick", c.sweep_quick, "few ticks and small N (CI smoke test)");
+  CLI::App* validate = app.add_subcommand(
+      "validate-contacts", "closed-form capsule contacts vs a long-double reference and FCL: error distributions");
+  validate->add_option("--pairs", c.validate_pairs, "random capsule pairs (spread over all families)")
+      ->capture_default_str()
+      ->check(CLI::Range(std::size_t{8}, std::size_t{100000000}));
+  validate->add_option("--seed", c.validate_seed, "random seed")->capture_default_str();
   app.require_subcommand(0, 1);
 
   try {
@@ -107,6 +116,10 @@ int main(int argc, char** argv) {
   }
   try {
     if (sweep->parsed()) return throng::bench::run_sweep(throng::bench::sweep_plan(c.sweep_quick), c.sweep_out);
+    if (validate->parsed()) {
+      std::cout << throng::geom::contact_validation_report(c.validate_pairs, c.validate_seed);
+      return 0;
+    }
     return run(c, app);
   } catch (const std::invalid_argument& e) {  // SceneError, ConfigError, bad settings
     fmt::print(stderr, "throng-bench: {}\n", e.what());
