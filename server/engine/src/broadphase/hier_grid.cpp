@@ -2,18 +2,13 @@
 
 #include <algorithm>
 #include <array>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
+
+#include "broadphase/cell_key.h"
 
 namespace throng::detail {
 namespace {
-
-constexpr double kCellLimit = 1073741824.0;  // 2^30 cells each way from the origin
-
-std::int64_t cell_coord(double v, double inv_cell) {
-  const double c = std::floor(v * inv_cell);
-  return static_cast<std::int64_t>(std::clamp(c, -kCellLimit, kCellLimit));
-}
 
 // The narrow candidate test: expanded circles in the plane, then the gap between the vertical
 // core segments. Pass-through bodies never collide: both masks must accept the other's group.

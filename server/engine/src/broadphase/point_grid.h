@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "broadphase/cell_key.h"
 #include "broadphase/radix_sort.h"
 
 namespace throng::detail {
@@ -42,12 +43,8 @@ class PointGrid {
     std::uint64_t key;
     std::uint32_t begin, end;
   };
-  std::int64_t coord(double v) const {
-    return static_cast<std::int64_t>(std::clamp(std::floor(v * inv_cell_), -1073741824.0, 1073741824.0));
-  }
-  static std::uint64_t key(std::int64_t cx, std::int64_t cy) {
-    return (static_cast<std::uint64_t>(cy + (std::int64_t{1} << 31)) << 32) | static_cast<std::uint64_t>(cx + (std::int64_t{1} << 31));
-  }
+  std::int64_t coord(double v) const { return cell_coord(v, inv_cell_); }
+  static std::uint64_t key(std::int64_t cx, std::int64_t cy) { return packed_cell_key(cx, cy); }
   double inv_cell_ = 1.0;
   std::vector<KeyIndex> items_, scratch_;
   std::vector<Cell> cells_;

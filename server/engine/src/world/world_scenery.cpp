@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "broadphase/cell_key.h"
 #include "throng/params/soft_push.h"
 #include "world/world_impl.h"
 
@@ -11,10 +12,7 @@ namespace throng {
 namespace {
 
 std::uint64_t scenery_cell_key(double x, double y, double inv_cell) {
-  const auto cx = static_cast<std::int64_t>(std::clamp(std::floor(x * inv_cell), -1e9, 1e9));
-  const auto cy = static_cast<std::int64_t>(std::clamp(std::floor(y * inv_cell), -1e9, 1e9));
-  return (static_cast<std::uint64_t>(cy + (std::int64_t{1} << 31)) << 32) |
-         static_cast<std::uint64_t>(cx + (std::int64_t{1} << 31));
+  return detail::packed_cell_key(detail::cell_coord(x, inv_cell), detail::cell_coord(y, inv_cell));
 }
 
 geom::Capsule body_capsule(double x, double y, double z, double hh, double r) {
