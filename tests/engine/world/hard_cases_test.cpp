@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <cstdio>
 #include <random>
 
 #include "world/world_fixtures.h"
@@ -105,6 +106,30 @@ TEST(WorldHardCases, AgentPinnedBetweenWallAndHeavyPusher) {
   }
   // The heavy pusher is stopped by the pinned body, which the wall backs up.
   EXPECT_NEAR(w.position(heavy).x - w.position(pinned).x, 0.7, 1e-6);
+}
+
+// A light body caught between two heavy ones that both overlap it: with exact shares (~1 for the
+// light body) every push only moves the light body, so Gauss-Seidel flips it from one heavy body to
+// the other and never converges. The conflict share limit lets later pushes of a pair move the
+// heavy bodies too.
+TEST(WorldHardCases, LightBodySqueezedBetweenHeavyOnesIsResolved) {
+  auto residual_after = [](double conflict_limit, int ticks) {
+    WorldSettings s = budget(8);
+    s.conflict_share_limit = conflict_limit;
+    World w(s, test_table(), weight_policy(params::PushMode::ratio, 10.0));  // 200 vs 50 kg: share 1 - 3e-7
+    add_sphere(w, 0.0, 0.0, 0.35, "heavy");
+    add_sphere(w, 0.6, 0.0, 0.35, "light");
+    add_sphere(w, 1.2, 0.0, 0.35, "heavy");
+    for (int t = 0; t < ticks; ++t) w.step();
+    return brute_force_residual(w).max_pen_over_radius;
+  };
+  std::printf("squeezed: exact %g / %g, limited %g / %g (1 / 10 ticks)\n", residual_after(0.0, 1),
+              residual_after(0.0, 10), residual_after(0.25, 1), residual_after(0.25, 10));
+  // Exact shares: the overlap only moves from one side to the other, tick after tick.
+  EXPECT_GT(residual_after(0.0, 10), 0.1);
+  // Limited: the heavy bodies give way; most of it goes in the first tick, all of it in a few.
+  EXPECT_LT(residual_after(0.25, 1), 0.5 * residual_after(0.0, 1));
+  EXPECT_LT(residual_after(0.25, 10), 1e-3);
 }
 
 TEST(WorldHardCases, HugePenetrationDeeperThanARadius) {

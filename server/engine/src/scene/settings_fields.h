@@ -39,6 +39,7 @@ inline constexpr std::array kSettingFields{
     flag("record_push_events", &WorldSettings::record_push_events),
     flag("warm_start", &WorldSettings::warm_start),
     real("blocked_motion_carry", &WorldSettings::blocked_motion_carry, 0.0, 0.99),
+    real("conflict_share_limit", &WorldSettings::conflict_share_limit, 0.0, 0.5),
     whole("max_candidates_per_body", &WorldSettings::max_candidates_per_body, 4, 4096),
     real("cell_size_m", &WorldSettings::cell_size_m, 0.0, 1000.0),
     real("morale_radius_m", &WorldSettings::morale_radius_m, 0.1, 1000.0),

@@ -21,15 +21,16 @@ inline void pair_direction(const SolverBodies& b, const SolverPair& p, double& n
 // the pair takes the whole correction. Without this, a body pinned between a wall and a heavy
 // pusher would be squeezed into the wall every sweep and pulled back by the plane, converging only
 // geometrically with the pusher's (small) share.
-inline double pinned_share(const SolverBodies& b, const std::vector<SolverPlane>& planes, const SolverPair& p) {
-  if ((b.plane_count[p.a] | b.plane_count[p.b]) == 0) return p.share_a;
+inline double pinned_share(const SolverBodies& b, const std::vector<SolverPlane>& planes, const SolverPair& p,
+                           double share_a) {
+  if ((b.plane_count[p.a] | b.plane_count[p.b]) == 0) return share_a;
   double nx, ny;
   pair_direction(b, p, nx, ny);
   const bool pinned_a = is_pinned(b, planes, p.a, -nx, -ny);
   const bool pinned_b = is_pinned(b, planes, p.b, nx, ny);
   if (pinned_a && !pinned_b) return 0.0;
   if (pinned_b && !pinned_a) return 1.0;
-  return p.share_a;
+  return share_a;
 }
 
 // Warm-start pushes above this fraction of the smaller radius are cut back (see apply_warm_start).
@@ -46,7 +47,7 @@ void apply_warm_start(SolverBodies& b, std::vector<SolverPair>& pairs, const std
     double nx, ny;
     pair_direction(b, p, nx, ny);
     // Same split as the solve itself, including bodies pinned against fixed planes.
-    const double move_a = p.lambda * pinned_share(b, planes, p);
+    const double move_a = p.lambda * pinned_share(b, planes, p, p.share_a);
     const double move_b = p.lambda - move_a;
     b.x[p.a] -= nx * move_a; b.y[p.a] -= ny * move_a;
     b.x[p.b] += nx * move_b; b.y[p.b] += ny * move_b;
@@ -66,7 +67,7 @@ void measure_start_depths(const SolverBodies& b, std::vector<SolverPair>& pairs,
 }
 
 SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
-                           std::uint32_t iterations, double converged) {
+                           std::uint32_t iterations, double converged, double conflict_limit) {
   SolveResult result;
   const BodyPtrs b(bodies);
   const std::size_t np = pairs.size();
@@ -74,7 +75,11 @@ SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs,
   // Most crowds touch no scenery at all; skip the per-pair pinned test for them.
   const bool any_planes = !planes.empty();
   auto project = [&](SolverPair& p) {
-    const double pen = project_pair(b, p, any_planes ? pinned_share(bodies, planes, p) : p.share_a);
+    double share = p.share_a;
+    if (p.resolved_once != 0 && conflict_limit > 0.0) share = std::clamp(share, conflict_limit, 1.0 - conflict_limit);
+    if (any_planes) share = pinned_share(bodies, planes, p, share);
+    const double pen = project_pair(b, p, share);
+    if (pen > 0.0) p.resolved_once = 1;
     if (pen > 0.0) {
       const double r_min = std::min(b.r[p.a], b.r[p.b]);
       if (pen > worst * r_min) worst = pen / r_min;  // divide only for a new maximum

@@ -24,7 +24,9 @@ void measure_start_depths(const SolverBodies& bodies, std::vector<SolverPair>& p
 // order but only one contact against it, so alternating lets pressure travel both ways through a
 // packed crowd. (Cycling four row/column orders, as fast-sweeping eikonal solvers do, was measured
 // worse on the crush scene at 8 and 16 iterations: p99 0.115 vs 0.070 at K = 8.)
+// conflict_share_limit > 0 clamps the share of every push after a pair's first one in a tick into
+// [limit, 1 - limit] (see WorldSettings::conflict_share_limit); 0 keeps the exact share throughout.
 SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
-                           std::uint32_t iterations, double converged_pen_over_radius);
+                           std::uint32_t iterations, double converged_pen_over_radius, double conflict_share_limit);
 
 }  // namespace throng::detail

@@ -47,6 +47,9 @@ struct SolverPair {
   double share_a;         // fraction of each push that moves a; b moves 1 - share_a
   double lambda;          // accumulated push this tick [m] (warm-started from last tick)
   double depth_start;     // penetration when the solve started [m], for push events
+  // Set once the pair has been pushed apart this tick: a later push of the same pair resolves a
+  // conflict (a third body drove them together again) and may use the moderated share.
+  std::uint32_t resolved_once;
 };
 
 // A fixed body's separating plane for one movable body (the patent's virtual plane): the body must

@@ -20,6 +20,7 @@ void WorldSettings::validate() const {
   check(contact_margin_m, 0.0, 10.0, "contact_margin_m");
   check(converged_pen_over_radius, 0.0, 1.0, "converged_pen_over_radius");
   check(blocked_motion_carry, 0.0, 0.99, "blocked_motion_carry");
+  check(conflict_share_limit, 0.0, 0.5, "conflict_share_limit");
   check(max_candidates_per_body, 4, 4096, "max_candidates_per_body");
   check(cell_size_m, 0.0, 1000.0, "cell_size_m");
   check(morale_radius_m, 0.1, 1000.0, "morale_radius_m");

@@ -151,6 +151,7 @@ void World::Impl::build_pairs() {
     }
     p.lambda = 0.0;
     p.depth_start = 0.0;
+    p.resolved_once = 0;
     if (settings.warm_start) {
       // The body with the smaller id keeps the pair's push from last tick.
       const bool a_owns = sb.id[a] < sb.id[b];
@@ -169,7 +170,8 @@ void World::Impl::solve() {
   if (settings.warm_start) detail::apply_warm_start(sb, pairs, planes);
   if (settings.record_push_events) detail::measure_start_depths(sb, pairs, planes);
   const detail::SolveResult r =
-      detail::solve_contacts(sb, pairs, planes, settings.iterations, settings.converged_pen_over_radius);
+      detail::solve_contacts(sb, pairs, planes, settings.iterations, settings.converged_pen_over_radius,
+                             policy.mode() == params::PushMode::ratio ? settings.conflict_share_limit : 0.0);
   stats.iterations_used = r.iterations_used;
   stats.max_pen_over_radius = r.max_pen_over_radius;
   const std::vector<std::uint32_t>& order = grid.order();
