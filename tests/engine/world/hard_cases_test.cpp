@@ -240,6 +240,20 @@ TEST(WorldHardCases, NonFiniteInputIsRejectedAndChangesNothing) {
   EXPECT_EQ(w.state_hash(), before);
 }
 
+TEST(WorldHardCases, EmptyWorldAndLastBodyDestroyed) {
+  World w(budget(8), test_table(), weight_policy(params::PushMode::ratio, 100.0));
+  w.step();
+  w.add_fixed_box({0.0, 0.0, 1.0}, {1.0, 1.0, 1.0}, 0.0);
+  w.step();
+  const ObjectId a = add_sphere(w, 5.0, 0.0);
+  w.step();
+  w.destroy_body(a);
+  w.step();
+  EXPECT_EQ(w.tick(), 4u);
+  EXPECT_EQ(w.body_count(), 0u);
+  EXPECT_FALSE(w.is_body(a));
+}
+
 TEST(WorldHardCases, StaleIdsAreRejected) {
   World w(budget(8), test_table(), weight_policy(params::PushMode::ratio, 100.0));
   const ObjectId a = add_sphere(w, 0.0, 0.0);

@@ -120,7 +120,7 @@ struct World::Impl {
   // helpers
   void rebuild_scenery_cells();
   bool near_scenery(double x, double y) const;
-  double cell0_size() ;
+  double cell0_size();
   double pair_share(std::uint32_t dense_a, std::uint32_t dense_b, double nx, double ny) const;
 };
 
