@@ -137,17 +137,27 @@ void World::Impl::build_pairs() {
     detail::SolverPair& p = pairs[k];
     p.a = a;
     p.b = b;
-    double nx = sb.x[b] - sb.x[a], ny = sb.y[b] - sb.y[a];
-    const double d = std::sqrt(nx * nx + ny * ny);
-    if (d > 0.0) { nx /= d; ny /= d; }
-    p.share_a = pair_share(da, db, nx, ny);
+    if (dyn.slow_share) {
+      // Pair-dependent terms (facing) need the direction between the bodies.
+      double nx = sb.x[b] - sb.x[a], ny = sb.y[b] - sb.y[a];
+      const double d = std::sqrt(nx * nx + ny * ny);
+      if (d > 0.0) { nx /= d; ny /= d; }
+      p.share_a = pair_share(da, db, nx, ny);
+    } else {
+      p.share_a = params::share_a_fast(bodies.resistance[da], bodies.resistance[db]);
+    }
     p.target = -1.0;
     if (sb.grounded[a] & sb.grounded[b]) {
-      // Upright capsules at fixed heights: the horizontal separation they need is exact.
+      // Upright capsules at fixed heights: the horizontal separation they need is exact (and is
+      // just the radius sum when their cores overlap in height, the common case).
       const double rsum = sb.r[a] + sb.r[b];
       const double gap = std::fabs(sb.z[b] - sb.z[a]) - sb.hh[a] - sb.hh[b];
-      const double target2 = gap > 0.0 ? rsum * rsum - gap * gap : rsum * rsum;
-      p.target = target2 > 0.0 ? std::sqrt(target2) : 0.0;
+      if (gap <= 0.0) {
+        p.target = rsum;
+      } else {
+        const double target2 = rsum * rsum - gap * gap;
+        p.target = target2 > 0.0 ? std::sqrt(target2) : 0.0;
+      }
     }
     p.lambda = 0.0;
     p.depth_start = 0.0;
