@@ -2,6 +2,8 @@
 // fallbacks, antisymmetry, and equality of the upright path with the general one.
 #include <gtest/gtest.h>
 
+#include "geometry/geom_test_util.h"
+
 #include <cmath>
 #include <cstring>
 
@@ -11,12 +13,6 @@
 
 namespace throng::geom {
 namespace {
-
-void expect_vec(const Vec3& got, const Vec3& want, double tol) {
-  EXPECT_NEAR(got.x, want.x, tol);
-  EXPECT_NEAR(got.y, want.y, tol);
-  EXPECT_NEAR(got.z, want.z, tol);
-}
 
 TEST(GeomCapsuleContact, SeparatedSpheres) {
   const Contact c = capsule_capsule({{0, 0, 0}, {0, 0, 0}, 1.0}, {{3, 0, 0}, {3, 0, 0}, 0.5});

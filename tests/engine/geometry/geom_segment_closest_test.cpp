@@ -1,16 +1,12 @@
 // Segment-segment closest points on hand-built cases whose answers follow from the geometry.
 #include <gtest/gtest.h>
 
+#include "geometry/geom_test_util.h"
+
 #include "throng/geometry/segment_closest.h"
 
 namespace throng::geom {
 namespace {
-
-void expect_vec(const Vec3& got, const Vec3& want, double tol) {
-  EXPECT_NEAR(got.x, want.x, tol);
-  EXPECT_NEAR(got.y, want.y, tol);
-  EXPECT_NEAR(got.z, want.z, tol);
-}
 
 TEST(GeomSegmentClosest, PerpendicularSkewSegmentsMeetAtTheirMiddles) {
   const auto r = closest_points_segment_segment({-1, 0, 0}, {1, 0, 0}, {0, -1, 2}, {0, 1, 2});

@@ -8,6 +8,8 @@
 #include <fcl/narrowphase/distance.h>
 #include <gtest/gtest.h>
 
+#include "geometry/geom_test_util.h"
+
 #include <cmath>
 #include <iostream>
 #include <stdexcept>
@@ -17,12 +19,6 @@
 
 namespace throng::geom {
 namespace {
-
-void expect_vec(const Vec3& got, const Vec3& want, double tol) {
-  EXPECT_NEAR(got.x, want.x, tol);
-  EXPECT_NEAR(got.y, want.y, tol);
-  EXPECT_NEAR(got.z, want.z, tol);
-}
 
 Capsule upright(double x, double y, double z_lo, double z_hi, double r) {
   return {{x, y, z_lo}, {x, y, z_hi}, r};

@@ -58,12 +58,10 @@ void World::Impl::rebuild_scenery_cells() {
   const double inv = 1.0 / scenery_cell_m;
   for (std::uint32_t s = 0; s < scenery.size(); ++s) {
     const geom::Aabb box = scenery.aabb(s);
-    const double x0 = std::floor((box.lo.x - reach) * inv), x1 = std::floor((box.hi.x + reach) * inv);
-    const double y0 = std::floor((box.lo.y - reach) * inv), y1 = std::floor((box.hi.y + reach) * inv);
-    for (double cy = y0; cy <= y1; cy += 1.0) {
-      for (double cx = x0; cx <= x1; cx += 1.0) {
-        scenery_cells.push_back(scenery_cell_key((cx + 0.5) * scenery_cell_m, (cy + 0.5) * scenery_cell_m, inv));
-      }
+    const std::int64_t x0 = detail::cell_coord(box.lo.x - reach, inv), x1 = detail::cell_coord(box.hi.x + reach, inv);
+    const std::int64_t y0 = detail::cell_coord(box.lo.y - reach, inv), y1 = detail::cell_coord(box.hi.y + reach, inv);
+    for (std::int64_t cy = y0; cy <= y1; ++cy) {
+      for (std::int64_t cx = x0; cx <= x1; ++cx) scenery_cells.push_back(detail::packed_cell_key(cx, cy));
     }
   }
   std::sort(scenery_cells.begin(), scenery_cells.end());
