@@ -1,0 +1,113 @@
+#pragma once
+// The DDS edge: the only code in Throng that talks to Fast DDS. Everything crossing it is a plain
+// struct from messages.h; the fastddsgen types never leak out of protocol/dds/src.
+//
+// Threading: the handlers passed in are called on Fast DDS listener threads. They must be cheap
+// and must not touch the simulation (the server's handlers only push into its input queue). All
+// publish/send calls are thread-safe.
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "throng/protocol/messages.h"
+
+namespace throng::protocol {
+
+struct TransportOptions {
+  int domain_id = 0;           // 0..232
+  // true: the participant uses only 127.0.0.1 (UDPv4 whitelist + unicast discovery to 127.0.0.1,
+  // plus shared memory) — what tests and the quick start use. false: Fast DDS's default
+  // transports/discovery (a real network).
+  bool loopback_only = true;
+  std::string participant_name = "throng";
+};
+
+// Bytes and samples a transport wrote, for metrics (payload bytes as serialized, no RTPS headers).
+struct TransportCounters {
+  std::uint64_t snapshot_samples = 0;
+  std::uint64_t snapshot_bytes = 0;
+  std::uint64_t other_samples = 0;
+  std::uint64_t other_bytes = 0;
+};
+
+class TransportError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class ServerTransport {
+ public:
+  struct Handlers {
+    std::function<void(JoinRequest&&)> on_join;
+    std::function<void(Command&&)> on_command;
+    std::function<void(ParamUpdate&&)> on_param_update;
+  };
+  // Creates the participant, topics, the shared writers/readers. Throws TransportError.
+  explicit ServerTransport(const TransportOptions& options);
+  ~ServerTransport();
+  ServerTransport(const ServerTransport&) = delete;
+  ServerTransport& operator=(const ServerTransport&) = delete;
+
+  // Readers start delivering after this.
+  void start(Handlers handlers);
+
+  void publish_match_info(const MatchInfo& info);
+  void publish_join_reply(const JoinReply& reply);
+  void publish_param_reply(const ParamReply& reply);
+  void publish_stats(const ServerStats& stats);
+
+  // One snapshot writer per client, in its own DDS partition, so a client only ever receives its
+  // own snapshots (interest management without reader-side filtering). Opening an already open
+  // client or closing an unknown one is a no-op.
+  void open_client_channel(std::uint32_t client_id, const std::string& partition);
+  void close_client_channel(std::uint32_t client_id);
+  // Returns the serialized payload size in bytes, 0 if the client has no open channel.
+  std::size_t publish_snapshot(const Snapshot& snapshot);
+
+  TransportCounters counters() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// A client side participant. One ClientTransport can carry many clients (bots multiplex on one
+// participant, as Fast DDS struggles with hundreds of participants per host).
+class ClientTransport {
+ public:
+  struct Handlers {
+    std::function<void(MatchInfo&&)> on_match_info;
+    std::function<void(JoinReply&&)> on_join_reply;  // every reply, other clients' too
+    std::function<void(ParamReply&&)> on_param_reply;
+    std::function<void(ServerStats&&)> on_stats;
+  };
+  explicit ClientTransport(const TransportOptions& options);
+  ~ClientTransport();
+  ClientTransport(const ClientTransport&) = delete;
+  ClientTransport& operator=(const ClientTransport&) = delete;
+
+  void start(Handlers handlers);
+
+  // Blocks until the server's join-request, command and param-update readers are matched (discovery done)
+  // or the timeout passes; returns whether they matched.
+  bool wait_for_server(std::chrono::milliseconds timeout);
+
+  void send_join(const JoinRequest& request);
+  void send_command(const Command& command);
+  void send_param_update(const ParamUpdate& update);
+
+  // Subscribes to one client's snapshot partition; handler runs on a DDS thread. Subscribing an
+  // already subscribed client replaces its handler.
+  void subscribe_snapshots(std::uint32_t client_id, const std::string& partition,
+                           std::function<void(Snapshot&&, std::size_t wire_bytes)> handler);
+  void unsubscribe_snapshots(std::uint32_t client_id);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace throng::protocol

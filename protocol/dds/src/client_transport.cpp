@@ -1,0 +1,170 @@
+// ClientTransport: one participant carrying any number of clients (bots multiplex on it). Shared
+// writers for joins, commands (keyed by client_id) and param updates; readers for match info,
+// join replies, param replies and stats (created by start()); one Subscriber + DataReader per
+// subscribed client partition for snapshots.
+#include <memory>
+#include <mutex>
+#include <unordered_map>
+
+#include "conversions.h"
+#include "endpoints.h"
+#include "participant.h"
+#include "throng/protocol/dds_transport.h"
+
+namespace throng::protocol {
+
+namespace dds = eprosima::fastdds::dds;
+using namespace dds_detail;
+
+namespace {
+
+using SnapshotHandler = std::function<void(Snapshot&&, std::size_t wire_bytes)>;
+
+// One client's snapshot subscription. The handler can be replaced while samples arrive, so the
+// listener reads it under a mutex and calls a copy outside the lock.
+struct SnapshotSubscription {
+  std::mutex handler_mutex;
+  SnapshotHandler handler;
+  std::string partition;
+  TakeAllListener<v1::Snapshot> listener{[this](v1::Snapshot&& s, std::size_t bytes) {
+    SnapshotHandler h;
+    {
+      std::lock_guard<std::mutex> lock(handler_mutex);
+      h = handler;
+    }
+    if (h) h(from_idl(std::move(s)), bytes);
+  }};
+  dds::Subscriber* subscriber = nullptr;  // in the client's partition; owns the reader
+};
+
+}  // namespace
+
+struct ClientTransport::Impl {
+  // Listeners and subscriptions are declared before the participant so they outlive it: deleting
+  // the participant deletes (and waits for) the endpoints that call them.
+  MatchCounter join_request_matches;
+  MatchCounter command_matches;
+  MatchCounter param_update_matches;
+  std::unique_ptr<TakeAllListener<v1::MatchInfo>> match_info_listener;
+  std::unique_ptr<TakeAllListener<v1::JoinReply>> join_reply_listener;
+  std::unique_ptr<TakeAllListener<v1::ParamReply>> param_reply_listener;
+  std::unique_ptr<TakeAllListener<v1::ServerStats>> stats_listener;
+  std::mutex subscriptions_mutex;
+  std::unordered_map<std::uint32_t, std::unique_ptr<SnapshotSubscription>> subscriptions;
+
+  Participant participant;
+  dds::DataWriter* join_request_writer = nullptr;
+  dds::DataWriter* command_writer = nullptr;
+  dds::DataWriter* param_update_writer = nullptr;
+
+  std::mutex start_mutex;
+  bool started = false;
+
+  explicit Impl(const TransportOptions& options) : participant(options) {
+    const Topics& t = participant.topics();
+    dds::Publisher& pub = participant.publisher();
+    join_request_writer =
+        &participant.create_writer(pub, *t.join_request, kJoinRequestProfiles.writer, &join_request_matches);
+    command_writer = &participant.create_writer(pub, *t.command, kCommandProfiles.writer, &command_matches);
+    param_update_writer =
+        &participant.create_writer(pub, *t.param_update, kParamProfiles.writer, &param_update_matches);
+  }
+
+  template <class Idl, class Message>
+  static std::unique_ptr<TakeAllListener<Idl>> forward_to(std::function<void(Message&&)> handler) {
+    return std::make_unique<TakeAllListener<Idl>>([h = std::move(handler)](Idl&& sample, std::size_t) {
+      if (h) h(from_idl(std::move(sample)));
+    });
+  }
+};
+
+ClientTransport::ClientTransport(const TransportOptions& options) : impl_(std::make_unique<Impl>(options)) {}
+
+ClientTransport::~ClientTransport() = default;
+
+void ClientTransport::start(Handlers handlers) {
+  std::lock_guard<std::mutex> lock(impl_->start_mutex);
+  if (impl_->started) throw TransportError("ClientTransport::start called twice");
+  Impl& c = *impl_;
+  c.match_info_listener = Impl::forward_to<v1::MatchInfo>(std::move(handlers.on_match_info));
+  c.join_reply_listener = Impl::forward_to<v1::JoinReply>(std::move(handlers.on_join_reply));
+  c.param_reply_listener = Impl::forward_to<v1::ParamReply>(std::move(handlers.on_param_reply));
+  c.stats_listener = Impl::forward_to<v1::ServerStats>(std::move(handlers.on_stats));
+  const Topics& t = c.participant.topics();
+  dds::Subscriber& sub = c.participant.subscriber();
+  c.participant.create_reader(sub, *t.match_info, kMatchInfoProfiles.reader, c.match_info_listener.get());
+  c.participant.create_reader(sub, *t.join_reply, kJoinReplyProfiles.reader, c.join_reply_listener.get());
+  c.participant.create_reader(sub, *t.param_reply, kParamProfiles.reader, c.param_reply_listener.get());
+  c.participant.create_reader(sub, *t.server_stats, kServerStatsProfiles.reader, c.stats_listener.get());
+  c.started = true;
+}
+
+// Also waits for the param-update reader (the server creates all three in start()): the topic is
+// reliable but volatile, so an update written before its writer matched is never delivered.
+bool ClientTransport::wait_for_server(std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  return impl_->join_request_matches.wait_until(deadline) && impl_->command_matches.wait_until(deadline) &&
+         impl_->param_update_matches.wait_until(deadline);
+}
+
+void ClientTransport::send_join(const JoinRequest& request) {
+  v1::JoinRequest sample = to_idl(request);
+  write_sample(*impl_->join_request_writer, sample);
+}
+
+void ClientTransport::send_command(const Command& command) {
+  v1::Command sample = to_idl(command);
+  write_sample(*impl_->command_writer, sample);
+}
+
+void ClientTransport::send_param_update(const ParamUpdate& update) {
+  v1::ParamUpdate sample = to_idl(update);
+  write_sample(*impl_->param_update_writer, sample);
+}
+
+void ClientTransport::subscribe_snapshots(std::uint32_t client_id, const std::string& partition,
+                                          std::function<void(Snapshot&&, std::size_t wire_bytes)> handler) {
+  check_partition_name(partition);
+  std::lock_guard<std::mutex> lock(impl_->subscriptions_mutex);
+  if (const auto it = impl_->subscriptions.find(client_id); it != impl_->subscriptions.end()) {
+    SnapshotSubscription& existing = *it->second;
+    {
+      std::lock_guard<std::mutex> handler_lock(existing.handler_mutex);
+      existing.handler = std::move(handler);
+    }
+    if (existing.partition != partition) {
+      // Partition is a changeable QoS: the reader rematches to the new client's writer.
+      dds::SubscriberQos qos = existing.subscriber->get_qos();
+      qos.partition().clear();
+      qos.partition().push_back(partition.c_str());
+      if (existing.subscriber->set_qos(qos) != ReturnCode_t::RETCODE_OK)
+        throw TransportError("cannot move client " + std::to_string(client_id) + "'s snapshot subscription to partition " +
+                             partition);
+      existing.partition = partition;
+    }
+    return;
+  }
+  auto subscription = std::make_unique<SnapshotSubscription>();
+  subscription->handler = std::move(handler);
+  subscription->partition = partition;
+  Participant& p = impl_->participant;
+  subscription->subscriber = &p.create_partition_subscriber(partition);
+  try {
+    p.create_reader(*subscription->subscriber, *p.topics().snapshot, kSnapshotProfiles.reader,
+                    &subscription->listener);
+  } catch (...) {
+    p.delete_subscriber(*subscription->subscriber);
+    throw;
+  }
+  impl_->subscriptions.emplace(client_id, std::move(subscription));
+}
+
+void ClientTransport::unsubscribe_snapshots(std::uint32_t client_id) {
+  std::lock_guard<std::mutex> lock(impl_->subscriptions_mutex);
+  const auto it = impl_->subscriptions.find(client_id);
+  if (it == impl_->subscriptions.end()) return;
+  impl_->participant.delete_subscriber(*it->second->subscriber);
+  impl_->subscriptions.erase(it);
+}
+
+}  // namespace throng::protocol

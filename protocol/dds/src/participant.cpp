@@ -1,0 +1,104 @@
+#include "participant.h"
+
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+
+#include "throngPubSubTypes.h"
+#include "type_support.h"
+
+namespace throng::protocol::dds_detail {
+
+namespace dds = eprosima::fastdds::dds;
+
+namespace {
+
+// Registers the type and creates the topic; the type name is the IDL one ("throng::v1::...").
+template <class Generated>
+dds::Topic* make_topic(dds::DomainParticipant& participant, const char* topic_name, const std::string& where) {
+  dds::TypeSupport type(new ThrongPubSubType<Generated>());
+  if (type.register_type(&participant) != ReturnCode_t::RETCODE_OK)
+    throw TransportError(where + "cannot register type " + type.get_type_name() + " for topic " + topic_name);
+  dds::Topic* topic = participant.create_topic(topic_name, type.get_type_name(), dds::TOPIC_QOS_DEFAULT);
+  if (topic == nullptr) throw TransportError(where + "cannot create topic " + topic_name);
+  return topic;
+}
+
+void destroy(dds::DomainParticipant* participant) {
+  if (participant == nullptr) return;
+  participant->delete_contained_entities();
+  dds::DomainParticipantFactory::get_instance()->delete_participant(participant);
+}
+
+}  // namespace
+
+Participant::Participant(const TransportOptions& options)
+    : domain_id_(options.domain_id), participant_(create_participant(options)) {
+  try {
+    const std::string w = where();
+    topics_.match_info = make_topic<v1::MatchInfoPubSubType>(*participant_, kTopicMatchInfo, w);
+    topics_.join_request = make_topic<v1::JoinRequestPubSubType>(*participant_, kTopicJoinRequest, w);
+    topics_.join_reply = make_topic<v1::JoinReplyPubSubType>(*participant_, kTopicJoinReply, w);
+    topics_.command = make_topic<v1::CommandPubSubType>(*participant_, kTopicCommand, w);
+    topics_.snapshot = make_topic<v1::SnapshotPubSubType>(*participant_, kTopicSnapshot, w);
+    topics_.param_update = make_topic<v1::ParamUpdatePubSubType>(*participant_, kTopicParamUpdate, w);
+    topics_.param_reply = make_topic<v1::ParamReplyPubSubType>(*participant_, kTopicParamReply, w);
+    topics_.server_stats = make_topic<v1::ServerStatsPubSubType>(*participant_, kTopicServerStats, w);
+    publisher_ = participant_->create_publisher(dds::PUBLISHER_QOS_DEFAULT);
+    subscriber_ = participant_->create_subscriber(dds::SUBSCRIBER_QOS_DEFAULT);
+    if (publisher_ == nullptr || subscriber_ == nullptr)
+      throw TransportError(w + "cannot create the default publisher/subscriber");
+  } catch (...) {
+    destroy(participant_);
+    throw;
+  }
+}
+
+Participant::~Participant() { destroy(participant_); }
+
+std::string Participant::where() const { return "domain " + std::to_string(domain_id_) + ": "; }
+
+dds::Publisher& Participant::create_partition_publisher(const std::string& partition) {
+  check_partition_name(partition);
+  dds::PublisherQos qos = participant_->get_default_publisher_qos();
+  qos.partition().push_back(partition.c_str());
+  dds::Publisher* publisher = participant_->create_publisher(qos);
+  if (publisher == nullptr) throw TransportError(where() + "cannot create a publisher in partition " + partition);
+  return *publisher;
+}
+
+dds::Subscriber& Participant::create_partition_subscriber(const std::string& partition) {
+  check_partition_name(partition);
+  dds::SubscriberQos qos = participant_->get_default_subscriber_qos();
+  qos.partition().push_back(partition.c_str());
+  dds::Subscriber* subscriber = participant_->create_subscriber(qos);
+  if (subscriber == nullptr) throw TransportError(where() + "cannot create a subscriber in partition " + partition);
+  return *subscriber;
+}
+
+dds::DataWriter& Participant::create_writer(dds::Publisher& publisher, dds::Topic& topic, const char* profile,
+                                            dds::DataWriterListener* listener) {
+  dds::DataWriter* writer = publisher.create_datawriter(&topic, writer_qos(publisher, profile), listener);
+  if (writer == nullptr)
+    throw TransportError(where() + "cannot create writer on " + topic.get_name() + " with profile " + profile);
+  return *writer;
+}
+
+dds::DataReader& Participant::create_reader(dds::Subscriber& subscriber, dds::Topic& topic, const char* profile,
+                                            dds::DataReaderListener* listener) {
+  dds::DataReader* reader = subscriber.create_datareader(&topic, reader_qos(subscriber, profile), listener);
+  if (reader == nullptr)
+    throw TransportError(where() + "cannot create reader on " + topic.get_name() + " with profile " + profile);
+  return *reader;
+}
+
+void Participant::delete_publisher(dds::Publisher& publisher) {
+  publisher.delete_contained_entities();
+  participant_->delete_publisher(&publisher);
+}
+
+void Participant::delete_subscriber(dds::Subscriber& subscriber) {
+  subscriber.delete_contained_entities();
+  participant_->delete_subscriber(&subscriber);
+}
+
+}  // namespace throng::protocol::dds_detail

@@ -1,0 +1,77 @@
+#include "qos.h"
+
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
+#include <mutex>
+
+#include "embedded_profiles.h"
+
+namespace throng::protocol::dds_detail {
+
+namespace dds = eprosima::fastdds::dds;
+
+namespace {
+
+// The XML profile manager keeps profiles per process, so the text is loaded once. A failed load is
+// not fatal by itself: the same profiles may already be there (for instance from the same file
+// named in FASTRTPS_DEFAULT_PROFILES_FILE); a profile that is really missing fails its lookup.
+bool load_profiles_once() {
+  static std::once_flag once;
+  static bool loaded = false;
+  std::call_once(once, [] {
+    loaded = dds::DomainParticipantFactory::get_instance()->load_XML_profiles_string(
+                 kProfilesXml.data(), kProfilesXml.size()) == ReturnCode_t::RETCODE_OK;
+  });
+  return loaded;
+}
+
+std::string profile_error(const char* what, const char* profile) {
+  return std::string("cannot load ") + what + " QoS profile '" + profile + "' from the embedded copy of " +
+         kProfilesSourcePath + (load_profiles_once() ? "" : " (the text did not load; Fast DDS logged why)");
+}
+
+}  // namespace
+
+dds::DomainParticipant* create_participant(const TransportOptions& options) {
+  const std::string where = "cannot create participant '" + options.participant_name + "' on domain " +
+                            std::to_string(options.domain_id) + ": ";
+  if (options.domain_id < 0 || options.domain_id > kMaxDomainId)
+    throw TransportError(where + "domain id must be 0.." + std::to_string(kMaxDomainId));
+  load_profiles_once();  // before any profile lookup, including the writers' and readers'
+
+  auto* factory = dds::DomainParticipantFactory::get_instance();
+  dds::DomainParticipantQos qos = factory->get_default_participant_qos();
+  if (options.loopback_only &&
+      factory->get_participant_qos_from_profile(kLoopbackParticipantProfile, qos) != ReturnCode_t::RETCODE_OK)
+    throw TransportError(where + profile_error("participant", kLoopbackParticipantProfile));
+  qos.name(options.participant_name);
+
+  dds::DomainParticipant* participant =
+      factory->create_participant(static_cast<dds::DomainId_t>(options.domain_id), qos);
+  if (participant == nullptr)
+    throw TransportError(where + "Fast DDS refused (ports in use or transports misconfigured; see its log)");
+  return participant;
+}
+
+dds::DataWriterQos writer_qos(dds::Publisher& publisher, const char* profile) {
+  dds::DataWriterQos qos;
+  if (publisher.get_datawriter_qos_from_profile(profile, qos) != ReturnCode_t::RETCODE_OK)
+    throw TransportError(profile_error("writer", profile));
+  return qos;
+}
+
+dds::DataReaderQos reader_qos(dds::Subscriber& subscriber, const char* profile) {
+  dds::DataReaderQos qos;
+  if (subscriber.get_datareader_qos_from_profile(profile, qos) != ReturnCode_t::RETCODE_OK)
+    throw TransportError(profile_error("reader", profile));
+  return qos;
+}
+
+void check_partition_name(const std::string& partition) {
+  if (partition.empty()) throw TransportError("snapshot partition name is empty");
+  if (partition.find_first_of("*?[]\\") != std::string::npos)
+    throw TransportError("snapshot partition name '" + partition +
+                         "' contains a wildcard character (* ? [ ] \\)");
+}
+
+}  // namespace throng::protocol::dds_detail

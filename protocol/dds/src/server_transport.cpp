@@ -1,0 +1,145 @@
+// ServerTransport: the match server's side. Shared writers for match info, join replies, param
+// replies and stats; readers for joins, commands and param updates (created by start()); one
+// Publisher + DataWriter per client for snapshots, in that client's partition.
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <shared_mutex>
+#include <unordered_map>
+
+#include "conversions.h"
+#include "endpoints.h"
+#include "participant.h"
+#include "throng/protocol/dds_transport.h"
+
+namespace throng::protocol {
+
+namespace dds = eprosima::fastdds::dds;
+using namespace dds_detail;
+
+namespace {
+struct SnapshotChannel {
+  dds::Publisher* publisher = nullptr;  // in the client's partition; owns the writer
+  dds::DataWriter* writer = nullptr;
+};
+}  // namespace
+
+struct ServerTransport::Impl {
+  // Listeners are declared before the participant so they are destroyed after it: deleting the
+  // participant deletes the readers that call them.
+  std::unique_ptr<TakeAllListener<v1::JoinRequest>> join_listener;
+  std::unique_ptr<TakeAllListener<v1::Command>> command_listener;
+  std::unique_ptr<TakeAllListener<v1::ParamUpdate>> param_listener;
+
+  Participant participant;
+  dds::DataWriter* match_info_writer = nullptr;
+  dds::DataWriter* join_reply_writer = nullptr;
+  dds::DataWriter* param_reply_writer = nullptr;
+  dds::DataWriter* stats_writer = nullptr;
+
+  std::mutex start_mutex;
+  bool started = false;
+
+  // Shared lock to publish (many threads may), exclusive to open/close a channel.
+  std::shared_mutex channels_mutex;
+  std::unordered_map<std::uint32_t, SnapshotChannel> channels;
+
+  std::atomic<std::uint64_t> snapshot_samples{0}, snapshot_bytes{0}, other_samples{0}, other_bytes{0};
+
+  explicit Impl(const TransportOptions& options) : participant(options) {
+    const Topics& t = participant.topics();
+    dds::Publisher& pub = participant.publisher();
+    match_info_writer = &participant.create_writer(pub, *t.match_info, kMatchInfoProfiles.writer);
+    join_reply_writer = &participant.create_writer(pub, *t.join_reply, kJoinReplyProfiles.writer);
+    param_reply_writer = &participant.create_writer(pub, *t.param_reply, kParamProfiles.writer);
+    stats_writer = &participant.create_writer(pub, *t.server_stats, kServerStatsProfiles.writer);
+  }
+
+  template <class Message>
+  void publish_other(dds::DataWriter& writer, const Message& message) {
+    auto sample = to_idl(message);
+    other_bytes += write_sample(writer, sample);
+    ++other_samples;
+  }
+};
+
+ServerTransport::ServerTransport(const TransportOptions& options) : impl_(std::make_unique<Impl>(options)) {}
+
+ServerTransport::~ServerTransport() = default;
+
+void ServerTransport::start(Handlers handlers) {
+  std::lock_guard<std::mutex> lock(impl_->start_mutex);
+  if (impl_->started) throw TransportError("ServerTransport::start called twice");
+  Impl& s = *impl_;
+  // Handlers may be empty: the topic is then read and dropped, so writers still match.
+  s.join_listener = std::make_unique<TakeAllListener<v1::JoinRequest>>(
+      [h = std::move(handlers.on_join)](v1::JoinRequest&& r, std::size_t) {
+        if (h) h(from_idl(std::move(r)));
+      });
+  s.command_listener = std::make_unique<TakeAllListener<v1::Command>>(
+      [h = std::move(handlers.on_command)](v1::Command&& c, std::size_t) {
+        if (h) h(from_idl(std::move(c)));
+      });
+  s.param_listener = std::make_unique<TakeAllListener<v1::ParamUpdate>>(
+      [h = std::move(handlers.on_param_update)](v1::ParamUpdate&& u, std::size_t) {
+        if (h) h(from_idl(std::move(u)));
+      });
+  const Topics& t = s.participant.topics();
+  dds::Subscriber& sub = s.participant.subscriber();
+  s.participant.create_reader(sub, *t.join_request, kJoinRequestProfiles.reader, s.join_listener.get());
+  s.participant.create_reader(sub, *t.command, kCommandProfiles.reader, s.command_listener.get());
+  s.participant.create_reader(sub, *t.param_update, kParamProfiles.reader, s.param_listener.get());
+  s.started = true;
+}
+
+void ServerTransport::publish_match_info(const MatchInfo& info) { impl_->publish_other(*impl_->match_info_writer, info); }
+
+void ServerTransport::publish_join_reply(const JoinReply& reply) {
+  impl_->publish_other(*impl_->join_reply_writer, reply);
+}
+
+void ServerTransport::publish_param_reply(const ParamReply& reply) {
+  impl_->publish_other(*impl_->param_reply_writer, reply);
+}
+
+void ServerTransport::publish_stats(const ServerStats& stats) { impl_->publish_other(*impl_->stats_writer, stats); }
+
+void ServerTransport::open_client_channel(std::uint32_t client_id, const std::string& partition) {
+  std::unique_lock<std::shared_mutex> lock(impl_->channels_mutex);
+  if (impl_->channels.contains(client_id)) return;
+  Participant& p = impl_->participant;
+  dds::Publisher& publisher = p.create_partition_publisher(partition);
+  try {
+    dds::DataWriter& writer = p.create_writer(publisher, *p.topics().snapshot, kSnapshotProfiles.writer);
+    impl_->channels.emplace(client_id, SnapshotChannel{&publisher, &writer});
+  } catch (...) {
+    p.delete_publisher(publisher);
+    throw;
+  }
+}
+
+void ServerTransport::close_client_channel(std::uint32_t client_id) {
+  std::unique_lock<std::shared_mutex> lock(impl_->channels_mutex);
+  const auto it = impl_->channels.find(client_id);
+  if (it == impl_->channels.end()) return;
+  impl_->participant.delete_publisher(*it->second.publisher);
+  impl_->channels.erase(it);
+}
+
+std::size_t ServerTransport::publish_snapshot(const Snapshot& snapshot) {
+  std::shared_lock<std::shared_mutex> lock(impl_->channels_mutex);
+  const auto it = impl_->channels.find(snapshot.client_id);
+  if (it == impl_->channels.end()) return 0;
+  v1::Snapshot sample = to_idl(snapshot);
+  const std::size_t bytes = write_sample(*it->second.writer, sample);
+  impl_->snapshot_bytes += bytes;
+  ++impl_->snapshot_samples;
+  return bytes;
+}
+
+TransportCounters ServerTransport::counters() const {
+  return TransportCounters{impl_->snapshot_samples.load(), impl_->snapshot_bytes.load(),
+                           impl_->other_samples.load(), impl_->other_bytes.load()};
+}
+
+}  // namespace throng::protocol
