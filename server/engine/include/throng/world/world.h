@@ -68,8 +68,10 @@ class World {
   std::uint64_t tick() const;
   std::uint64_t state_hash() const;
   std::size_t body_count() const;
-  // Dense views in the world's internal order (stable between ticks unless bodies are created or
-  // destroyed); id_at() maps a dense index back to the id.
+  // Dense views in the world's internal order. The order changes when bodies are created or
+  // destroyed AND every 16 ticks inside step() (spatial re-sort for cache locality), so never keep
+  // per-body arrays in dense order across a step without remapping; id_at() maps a dense index
+  // back to the id.
   std::span<const double> pos_x() const;
   std::span<const double> pos_y() const;
   std::span<const double> pos_z() const;

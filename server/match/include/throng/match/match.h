@@ -1,0 +1,129 @@
+#pragma once
+// One match: the world, the connected clients, the NPC AI and the snapshots, advanced one fixed
+// tick at a time. No clocks, no threads, no DDS: tick() is a pure function of the scene, the
+// config and the inputs drained so far, which is what makes logs replayable and tests exact.
+// The server app (server/app) owns the real-time loop and the DDS transport around it.
+//
+// Tick phases, in order (TickReport times each):
+//   drain     — take the queued inputs, sorted (input_queue.h)
+//   apply     — joins/leaves, validated commands, operator parameter changes, client timeouts
+//   ai        — desired velocities for every NPC
+//   step      — World::step
+//   snapshots — one Snapshot per client (snapshot_builder.h)
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "throng/match/input_queue.h"
+#include "throng/match/match_config.h"
+#include "throng/protocol/messages.h"
+#include "throng/scene/scene_def.h"
+
+namespace throng {
+class World;
+}
+
+namespace throng::match {
+
+// Why a command was rejected. Each rejected command changes nothing in the world.
+enum class RejectReason : std::uint8_t {
+  non_finite = 0,        // NaN/Inf in any float
+  move_out_of_range,     // |move| > 1 (+1e-3 slack)
+  facing_out_of_range,   // |facing| > pi (+1e-3 slack)
+  camera_out_of_range,   // |camera coordinate| > camera_limit_m
+  bad_actions,           // unknown action bits
+  unknown_client,        // client id not connected
+  not_your_entity,       // entity is not the one this client controls
+  stale_sequence,        // sequence below the newest applied
+  duplicate_sequence,    // sequence equal to one already applied
+  rate_limited,          // more than max_commands_per_tick from one client in a tick
+  count_
+};
+inline constexpr std::size_t kRejectReasonCount = static_cast<std::size_t>(RejectReason::count_);
+const char* to_string(RejectReason r);
+
+struct TickReport {
+  std::uint64_t tick = 0;       // the tick just simulated
+  std::uint64_t state_hash = 0; // World::state_hash after the step
+  double drain_us = 0, apply_us = 0, ai_us = 0, step_us = 0, snapshots_us = 0, total_us = 0;
+  std::uint32_t joins_accepted = 0, joins_refused = 0, leaves = 0, timeouts = 0;
+  std::uint32_t commands_accepted = 0, commands_rejected = 0;
+  std::uint32_t param_updates_applied = 0, param_updates_rejected = 0;
+  std::uint32_t push_events = 0;  // contacts pushed this tick
+  std::uint32_t snapshot_poses = 0;
+  double view_error_max_m = 0;    // over all clients this tick
+};
+
+// Lifecycle events the transport must act on (open/close a client's snapshot channel) and the
+// server logs. Filled by tick().
+struct ClientEvent {
+  enum class Kind : std::uint8_t { joined, left, timed_out } kind;
+  std::uint32_t client_id = 0;
+  std::uint32_t entity = 0;
+  std::string partition;
+  std::string name;
+};
+
+// Everything a tick produced for the network. Reused tick to tick (vectors keep capacity).
+struct Outbox {
+  std::vector<protocol::JoinReply> join_replies;
+  std::vector<protocol::ParamReply> param_replies;
+  std::vector<ClientEvent> client_events;
+  std::vector<protocol::Snapshot> snapshots;  // first snapshot_count are this tick's
+  std::size_t snapshot_count = 0;
+  bool match_info_changed = false;            // republish match_info()
+  void clear() {
+    join_replies.clear();
+    param_replies.clear();
+    client_events.clear();
+    snapshot_count = 0;
+    match_info_changed = false;
+  }
+};
+
+struct ClientSummary {
+  std::uint32_t client_id = 0;
+  std::uint32_t entity = 0;
+  std::string name;
+  std::uint32_t last_applied_sequence = 0;
+  std::uint64_t joined_tick = 0;
+  std::uint64_t commands_accepted = 0;  // commands carrying this client_id, by outcome
+  std::uint64_t commands_rejected = 0;  //   (unknown_client rejections belong to no client)
+};
+
+class Match {
+ public:
+  // Builds the scene's world. Throws scene::SceneError / std::invalid_argument on bad input.
+  Match(const scene::SceneDef& scene, const MatchConfig& config, std::string match_id);
+  ~Match();
+  Match(const Match&) = delete;
+  Match& operator=(const Match&) = delete;
+
+  InputQueue& inputs();
+
+  // Runs one tick (the phases above) and fills out (out.clear() is called first).
+  const TickReport& tick(Outbox& out);
+
+  // From now on joins are refused with shutting_down. The final match info has state = ended.
+  void begin_shutdown();
+
+  const protocol::MatchInfo& match_info() const;
+  std::uint64_t tick_index() const;         // ticks simulated so far
+  std::uint64_t state_hash() const;
+  std::uint32_t client_count() const;
+  std::vector<ClientSummary> clients() const;
+  std::uint32_t npc_count() const;
+  // Totals since the match started, by reason.
+  const std::array<std::uint64_t, kRejectReasonCount>& rejected_by_reason() const;
+  std::uint64_t commands_accepted_total() const;
+  const MatchConfig& config() const;
+  const World& world() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace throng::match

@@ -1,0 +1,30 @@
+#pragma once
+// Everything a match is configured with besides its scene. Validated by validate_config (throws
+// std::invalid_argument naming the field), so a bad command-line value never reaches a tick.
+#include <cstdint>
+
+namespace throng::match {
+
+struct InterestConfig {
+  double radius_m = 30.0;             // objects within this distance of the camera are sent; 0 = all
+  double exit_hysteresis = 1.1;       // an object leaves the view at radius * this
+  std::uint32_t budget_bytes = 1066;  // per client per tick (256 kbit/s at 30 Hz), headers included
+  std::uint32_t keepalive_ticks = 30; // an unchanged object is still re-sent this often
+  std::uint32_t removed_repeat = 3;   // a removal is repeated in this many snapshots (best-effort)
+};
+
+struct MatchConfig {
+  std::uint32_t tick_hz = 30;
+  std::uint32_t max_clients = 256;
+  double client_timeout_s = 5.0;          // no command for this long: the client is dropped
+  std::uint32_t max_commands_per_tick = 4;  // per client; more in one tick are rejected
+  double player_speed_mps = 4.0;          // |move| = 1 gives this speed (sprint x1.5)
+  double npc_speed_mps = 1.2;             // NPC cruising speed
+  double camera_limit_m = 10000.0;        // |camera coordinate| above this is rejected
+  std::uint64_t seed = 1;                 // AI tie-breaks (deterministic)
+  InterestConfig interest;
+};
+
+void validate_config(const MatchConfig& config);
+
+}  // namespace throng::match
