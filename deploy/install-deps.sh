@@ -13,6 +13,9 @@ PACKAGES=(
   libxxhash-dev        # 64-bit per-tick state hash (XXH3)
   libgtest-dev libgmock-dev  # unit/integration tests under ctest
   libbenchmark-dev     # micro benchmarks
+  libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools  # eProsima Fast DDS 2.9: topics, IDL compiler, CLI
+  libboost-dev         # Asio (fixed-tick loop, signals) and Beast (admin HTTP, viewer WebSocket)
+  libspdlog-dev        # server/bot logs with levels and timestamps
 )
 
 if [ "$(id -u)" -ne 0 ]; then SUDO=sudo; else SUDO=; fi

@@ -1,0 +1,49 @@
+#pragma once
+// throng-server's whole job: one Match (server/match) driven by a fixed-tick Asio loop, its inputs
+// fed by the DDS transport, its outputs published back, metrics on the admin endpoint.
+//
+// Threads: run() is the tick thread (an io_context with the tick timer and the signal set); Fast
+// DDS listener threads only push into the match's input queue; the admin HTTP server has its own
+// thread and reads atomics. The world is only ever touched by the tick thread.
+#include <atomic>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "throng/server/server_options.h"
+
+namespace throng::server {
+
+class MatchServer {
+ public:
+  // Builds the scene, the match, the DDS participant and the admin endpoint. Throws
+  // std::exception with a message naming what failed (scene file, DDS domain, admin port).
+  explicit MatchServer(const ServerOptions& options);
+  ~MatchServer();
+  MatchServer(const MatchServer&) = delete;
+  MatchServer& operator=(const MatchServer&) = delete;
+
+  // Hosts the match until --duration passes, request_stop() is called, or SIGINT/SIGTERM arrives
+  // (when handle_signals). Shutdown is graceful: joins are refused, the current tick finishes,
+  // the final match info says "ended", the summary is written. Returns the process exit code.
+  int run(bool handle_signals = true);
+
+  // Thread-safe: the tick loop stops at its next tick.
+  void request_stop();
+
+  // The admin HTTP port actually bound (useful with --admin-port 0); 0 when disabled.
+  std::uint16_t admin_port() const;
+
+  // End-of-match figures (also written to --summary-json): ticks, overruns, tick time
+  // percentiles, commands by reason, per-client counts, bytes, state hash.
+  nlohmann::json summary() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace throng::server

@@ -1,0 +1,41 @@
+#pragma once
+// The server's Prometheus metrics (all named throng_*), registered once at start-up so the tick
+// only touches atomics. What each one means is in its help text, which /metrics serves.
+#include <array>
+
+#include "throng/admin/metrics.h"
+#include "throng/match/match.h"
+
+namespace throng::server {
+
+struct ServerMetrics {
+  explicit ServerMetrics(admin::MetricsRegistry& registry);
+
+  admin::Counter& ticks;
+  admin::Counter& overruns;
+  admin::Counter& skipped_ticks;
+  admin::Histogram& tick_seconds;
+  admin::Histogram& phase_seconds_step;
+  admin::Histogram& phase_seconds_publish;
+  admin::Gauge& clients;
+  admin::Gauge& bodies;
+  admin::Counter& joins_accepted;
+  admin::Counter& joins_refused;
+  admin::Counter& leaves;
+  admin::Counter& timeouts;
+  admin::Counter& commands_accepted;
+  std::array<admin::Counter*, match::kRejectReasonCount> commands_rejected{};
+  admin::Counter& input_queue_dropped;
+  admin::Counter& param_updates_applied;
+  admin::Counter& param_updates_rejected;
+  admin::Counter& snapshot_samples;
+  admin::Counter& snapshot_bytes;
+  admin::Counter& snapshot_poses;
+  admin::Counter& other_samples;
+  admin::Counter& other_bytes;
+  admin::Counter& push_events;
+  admin::Gauge& view_error_max_m;
+  admin::Gauge& state_hash_low32;
+};
+
+}  // namespace throng::server

@@ -1,0 +1,36 @@
+#pragma once
+// throng-server's configuration: every command-line option as a field with its default, and the
+// parser that turns argv into it with clear errors (tested in tests/server/server_cli_test.cpp).
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "throng/match/match_config.h"
+
+namespace throng::server {
+
+struct ServerOptions {
+  std::string scene = "battle";    // built-in scene name or scene JSON file
+  std::uint64_t npcs = 6000;       // scale the scene to this many bodies; 0 = the scene's own count
+  int domain = 0;                  // DDS domain id, 0..232
+  bool loopback_only = true;       // DDS on 127.0.0.1 only (false: Fast DDS default transports)
+  double duration_s = 0.0;         // 0 = until SIGINT/SIGTERM
+  int admin_port = 9470;           // -1 = no admin HTTP, 0 = any free port
+  std::string admin_bind = "127.0.0.1";
+  std::string summary_json;        // written at exit when set
+  std::string log_level = "info";  // trace, debug, info, warn, error
+  std::uint32_t max_catchup_ticks = 3;
+  match::MatchConfig match;        // tick rate, clients, interest ... (match_config.h)
+};
+
+// Outcome of parsing: options, or text to print and an exit code (--help: 0, errors: 2).
+struct ParseResult {
+  std::optional<ServerOptions> options;
+  std::string message;
+  int exit_code = 0;
+};
+
+ParseResult parse_server_options(const std::vector<std::string>& args);  // args without argv[0]
+
+}  // namespace throng::server

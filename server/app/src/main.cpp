@@ -1,0 +1,33 @@
+// throng-server: hosts one match. All the work is in MatchServer; main only parses, sets up
+// logging and turns exceptions into a clear message and a non-zero exit code.
+#include <cstdio>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include "throng/server/match_server.h"
+#include "throng/server/server_options.h"
+
+int main(int argc, char** argv) {
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  const auto parsed = throng::server::parse_server_options(args);
+  if (!parsed.options) {
+    std::fputs((parsed.message + "\n").c_str(), parsed.exit_code == 0 ? stdout : stderr);
+    return parsed.exit_code;
+  }
+  // Logs go to stderr so stdout carries only the summary (scripts can capture it).
+  auto logger = spdlog::stderr_color_mt("throng-server");
+  logger->set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%^%l%$] %v");
+  logger->set_level(spdlog::level::from_str(parsed.options->log_level));
+  spdlog::set_default_logger(logger);
+  try {
+    throng::server::MatchServer server(*parsed.options);
+    return server.run();
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return 1;
+  }
+}

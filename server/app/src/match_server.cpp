@@ -1,0 +1,306 @@
+#include "throng/server/match_server.h"
+
+#include <chrono>
+#include <csignal>
+#include <fstream>
+#include <unistd.h>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <spdlog/spdlog.h>
+
+#include "throng/admin/admin_server.h"
+#include "throng/admin/metrics.h"
+#include "throng/match/match.h"
+#include "throng/protocol/dds_transport.h"
+#include "throng/scene/builtin_scenes.h"
+#include "throng/scene/scale.h"
+#include "throng/server/client_ledger.h"
+#include "throng/server/duration_stats.h"
+#include "throng/server/server_metrics.h"
+#include "throng/server/server_summary.h"
+#include "throng/server/tick_schedule.h"
+#include "throng/world/world.h"
+
+namespace throng::server {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_between(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double>(b - a).count();
+}
+
+scene::SceneDef load_scaled_scene(const ServerOptions& o) {
+  scene::SceneDef s = scene::load_scene(o.scene);
+  if (o.npcs > 0 && o.npcs != s.agent_count()) s = scene::scale_scene(s, o.npcs);
+  return s;
+}
+
+std::string make_match_id(const std::string& scene_name) {
+  const auto now = std::chrono::system_clock::now().time_since_epoch();
+  return scene_name + "-" + std::to_string(std::chrono::duration_cast<std::chrono::seconds>(now).count()) + "-" +
+         std::to_string(::getpid());
+}
+
+}  // namespace
+
+struct MatchServer::Impl {
+  ServerOptions options;
+  scene::SceneDef scene;
+  match::Match match;
+  protocol::ServerTransport transport;
+  admin::MetricsRegistry registry;
+  ServerMetrics metrics{registry};
+  std::unique_ptr<admin::AdminServer> admin;
+
+  match::Outbox outbox;
+  ClientLedger ledger;
+  DurationStats tick_all, tick_window, publish_all;
+  protocol::TransportCounters published_before{};
+  std::atomic<bool> stop_requested{false};
+  std::atomic<bool> ready{false};
+  Clock::time_point started{};
+  Clock::time_point last_progress{};
+  double wall_seconds = 0.0;
+  std::uint64_t push_events_total = 0;
+  std::uint64_t poses_total = 0;
+  double view_error_max_m = 0.0;
+  bool finished = false;
+  std::unique_ptr<TickSchedule> schedule;
+
+  explicit Impl(const ServerOptions& o)
+      : options(o),
+        scene(load_scaled_scene(o)),
+        match(scene, o.match, make_match_id(scene.name)),
+        transport(protocol::TransportOptions{o.domain, o.loopback_only, "throng-server"}) {
+    if (o.admin_port >= 0) {
+      admin::AdminServerOptions ao;
+      ao.bind_address = o.admin_bind;
+      ao.port = static_cast<std::uint16_t>(o.admin_port);
+      admin = std::make_unique<admin::AdminServer>(registry, [this] { return ready.load(); }, ao);
+    }
+  }
+
+  void publish_outbox();
+  void publish_stats(const match::TickReport& report);
+  void run_tick(Clock::time_point woke);
+  void log_progress(Clock::time_point now);
+};
+
+MatchServer::MatchServer(const ServerOptions& options) : impl_(std::make_unique<Impl>(options)) {}
+MatchServer::~MatchServer() = default;
+
+void MatchServer::request_stop() { impl_->stop_requested.store(true); }
+
+std::uint16_t MatchServer::admin_port() const { return impl_->admin ? impl_->admin->port() : 0; }
+
+void MatchServer::Impl::publish_outbox() {
+  for (const auto& e : outbox.client_events) {
+    switch (e.kind) {
+      case match::ClientEvent::Kind::joined:
+        transport.open_client_channel(e.client_id, e.partition);
+        ledger.joined(e, match.tick_index());
+        spdlog::info("client {} '{}' joined: controls entity {} (partition {})", e.client_id, e.name, e.entity, e.partition);
+        break;
+      case match::ClientEvent::Kind::left:
+      case match::ClientEvent::Kind::timed_out:
+        transport.close_client_channel(e.client_id);
+        ledger.departed(e, match.tick_index());
+        spdlog::info("client {} '{}' {}: entity {} handed back to the AI", e.client_id, e.name,
+                     e.kind == match::ClientEvent::Kind::left ? "left" : "timed out (no command)", e.entity);
+        break;
+    }
+  }
+  for (const auto& r : outbox.join_replies) {
+    transport.publish_join_reply(r);
+    if (r.result != protocol::JoinResult::accepted && r.result != protocol::JoinResult::left)
+      spdlog::warn("join refused ({}): {}", protocol::to_string(r.result), r.reason);
+  }
+  for (const auto& r : outbox.param_replies) {
+    transport.publish_param_reply(r);
+    if (r.ok) spdlog::info("operator change {} applied at tick {} (param version {})", r.request_id, r.tick, r.param_version);
+    else spdlog::warn("operator change {} rejected: {}", r.request_id, r.error);
+  }
+  if (outbox.match_info_changed) transport.publish_match_info(match.match_info());
+  for (std::size_t i = 0; i < outbox.snapshot_count; ++i) {
+    const auto& s = outbox.snapshots[i];
+    if (transport.publish_snapshot(s) > 0) ledger.snapshot_published(s.client_id, s.x.size());
+  }
+}
+
+void MatchServer::Impl::publish_stats(const match::TickReport& report) {
+  protocol::ServerStats st;
+  st.tick = report.tick;
+  st.tick_hz = options.match.tick_hz;
+  st.clients = match.client_count();
+  st.bodies = static_cast<std::uint32_t>(match.world().pos_x().size());
+  st.tick_ms_p50 = static_cast<float>(tick_window.quantile(0.5) * 1e3);
+  st.tick_ms_p99 = static_cast<float>(tick_window.quantile(0.99) * 1e3);
+  st.tick_ms_max = static_cast<float>(tick_window.max() * 1e3);
+  st.overruns = schedule->overruns();
+  st.commands_accepted = match.commands_accepted_total();
+  for (auto n : match.rejected_by_reason()) st.commands_rejected += n;
+  const auto c = transport.counters();
+  st.snapshot_bytes = c.snapshot_bytes;
+  st.snapshot_samples = c.snapshot_samples;
+  st.push_events = push_events_total;
+  st.state_hash = report.state_hash;
+  st.state = finished ? protocol::MatchState::ended : protocol::MatchState::running;
+  transport.publish_stats(st);
+  tick_window.reset();
+}
+
+void MatchServer::Impl::run_tick(Clock::time_point woke) {
+  const bool stopping = stop_requested.load();
+  if (stopping) match.begin_shutdown();  // this tick already refuses joins and says "ended"
+
+  schedule->begin_tick(woke);
+  ledger.update_commands(match);  // before the tick: a client that leaves in it takes its counts along
+  const match::TickReport& report = match.tick(outbox);
+  const auto published_at = Clock::now();
+  publish_outbox();
+  const auto done = Clock::now();
+  const bool overrun = schedule->end_tick(done);
+
+  const double tick_s = seconds_between(woke, done);
+  tick_all.add(tick_s);
+  tick_window.add(tick_s);
+  publish_all.add(seconds_between(published_at, done));
+  push_events_total += report.push_events;
+  poses_total += report.snapshot_poses;
+  view_error_max_m = std::max(view_error_max_m, report.view_error_max_m);
+
+  // Metrics: atomics only.
+  metrics.ticks.inc();
+  if (overrun) metrics.overruns.inc();
+  metrics.tick_seconds.observe(tick_s);
+  metrics.phase_seconds_step.observe(report.step_us * 1e-6);
+  metrics.phase_seconds_publish.observe(seconds_between(published_at, done));
+  metrics.clients.set(match.client_count());
+  metrics.bodies.set(static_cast<double>(match.world().pos_x().size()));
+  metrics.joins_accepted.inc(report.joins_accepted);
+  metrics.joins_refused.inc(report.joins_refused);
+  metrics.leaves.inc(report.leaves);
+  metrics.timeouts.inc(report.timeouts);
+  metrics.commands_accepted.inc(report.commands_accepted);
+  metrics.param_updates_applied.inc(report.param_updates_applied);
+  metrics.param_updates_rejected.inc(report.param_updates_rejected);
+  metrics.push_events.inc(report.push_events);
+  metrics.snapshot_poses.inc(report.snapshot_poses);
+  metrics.view_error_max_m.set(report.view_error_max_m);
+  metrics.state_hash_low32.set(static_cast<double>(report.state_hash & 0xFFFF'FFFFu));
+  const auto& by_reason = match.rejected_by_reason();
+  for (std::size_t i = 0; i < by_reason.size(); ++i) {
+    const auto seen = metrics.commands_rejected[i]->value();
+    if (by_reason[i] > seen) metrics.commands_rejected[i]->inc(by_reason[i] - seen);
+  }
+  const auto dropped = match.inputs().dropped();
+  if (dropped > metrics.input_queue_dropped.value()) metrics.input_queue_dropped.inc(dropped - metrics.input_queue_dropped.value());
+  const auto c = transport.counters();
+  metrics.snapshot_samples.inc(c.snapshot_samples - published_before.snapshot_samples);
+  metrics.snapshot_bytes.inc(c.snapshot_bytes - published_before.snapshot_bytes);
+  metrics.other_samples.inc(c.other_samples - published_before.other_samples);
+  metrics.other_bytes.inc(c.other_bytes - published_before.other_bytes);
+  published_before = c;
+  const auto skipped = schedule->skipped();
+  if (skipped > metrics.skipped_ticks.value()) metrics.skipped_ticks.inc(skipped - metrics.skipped_ticks.value());
+
+  if (stopping) finished = true;
+  if (report.tick % options.match.tick_hz == 0 || finished) publish_stats(report);
+  if (done - last_progress >= std::chrono::seconds(10)) log_progress(done);
+  ready.store(!finished);
+}
+
+void MatchServer::Impl::log_progress(Clock::time_point now) {
+  const double window_s = seconds_between(last_progress, now);
+  last_progress = now;
+  const auto c = transport.counters();
+  spdlog::info("tick {} | clients {} | tick p50 {:.2f} ms p99 {:.2f} ms max {:.2f} ms | overruns {} | snapshots {:.0f} kbit/s total",
+               match.tick_index(), match.client_count(), tick_all.quantile(0.5) * 1e3, tick_all.quantile(0.99) * 1e3,
+               tick_all.max() * 1e3, schedule->overruns(),
+               window_s > 0 ? static_cast<double>(c.snapshot_bytes - ledger.bytes_at_last_progress) * 8.0 / 1000.0 / window_s : 0.0);
+  ledger.bytes_at_last_progress = c.snapshot_bytes;
+}
+
+int MatchServer::run(bool handle_signals) {
+  Impl& m = *impl_;
+  boost::asio::io_context io;
+  boost::asio::steady_timer timer(io);
+  boost::asio::signal_set signals(io);
+  if (handle_signals) {
+    signals.add(SIGINT);
+    signals.add(SIGTERM);
+    signals.async_wait([&](const boost::system::error_code& ec, int signo) {
+      if (ec) return;
+      spdlog::info("{} received: finishing the current tick and ending the match", signo == SIGINT ? "SIGINT" : "SIGTERM");
+      m.stop_requested.store(true);
+    });
+  }
+
+  m.transport.start(protocol::ServerTransport::Handlers{
+      [&m](protocol::JoinRequest&& r) { m.match.inputs().push(std::move(r)); },
+      [&m](protocol::Command&& c) { m.match.inputs().push(std::move(c)); },
+      [&m](protocol::ParamUpdate&& u) { m.match.inputs().push(std::move(u)); },
+  });
+  m.transport.publish_match_info(m.match.match_info());
+
+  const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / m.options.match.tick_hz));
+  m.started = Clock::now();
+  m.last_progress = m.started;
+  m.schedule = std::make_unique<TickSchedule>(period, m.options.max_catchup_ticks, m.started);
+  const auto end_at = m.options.duration_s > 0
+                          ? m.started + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(m.options.duration_s))
+                          : Clock::time_point::max();
+  spdlog::info("match {} on DDS domain {} ({}): scene '{}', {} bodies, {} Hz, up to {} clients{}", m.match.match_info().match_id,
+               m.options.domain, m.options.loopback_only ? "127.0.0.1 only" : "default network", m.scene.name,
+               m.match.world().pos_x().size(), m.options.match.tick_hz, m.options.match.max_clients,
+               m.options.duration_s > 0 ? fmt::format(", for {} s", m.options.duration_s) : std::string(", until SIGINT/SIGTERM"));
+  if (m.admin) spdlog::info("admin listening on {}:{} (/healthz /readyz /metrics)", m.options.admin_bind, m.admin->port());
+
+  std::function<void()> arm = [&] {
+    timer.expires_at(m.schedule->next_deadline());
+    timer.async_wait([&](const boost::system::error_code& ec) {
+      if (ec) return;
+      const auto woke = Clock::now();
+      if (woke >= end_at) m.stop_requested.store(true);
+      m.run_tick(woke);
+      if (m.finished) {
+        signals.cancel();
+        return;
+      }
+      arm();
+    });
+  };
+  arm();
+  io.run();
+
+  m.wall_seconds = seconds_between(m.started, Clock::now());
+  m.ledger.update_commands(m.match);
+  m.ready.store(false);
+  const nlohmann::json s = summary();
+  if (!m.options.summary_json.empty()) {
+    std::ofstream f(m.options.summary_json);
+    f << s.dump(2) << "\n";
+    if (!f) spdlog::error("cannot write the summary to {}", m.options.summary_json);
+  }
+  std::fputs(format_summary(s).c_str(), stdout);
+  std::fflush(stdout);
+  spdlog::info("match ended after {} ticks; exit 0", m.match.tick_index());
+  return 0;
+}
+
+nlohmann::json MatchServer::summary() const {
+  const Impl& m = *impl_;
+  SummaryInputs in{m.match, m.ledger, m.tick_all, m.publish_all, *m.schedule, m.transport.counters(), 0.0, 0, 0, 0.0, {}};
+  in.wall_seconds = m.wall_seconds;
+  in.push_events = m.push_events_total;
+  in.poses = m.poses_total;
+  in.view_error_max_m = m.view_error_max_m;
+  in.scene_name = m.scene.name;
+  return make_summary(in);
+}
+
+}  // namespace throng::server

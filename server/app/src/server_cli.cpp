@@ -1,0 +1,83 @@
+// throng-server's command line. CLI11 gives --help and type errors; ranges that CLI11 cannot
+// express (a finite double, a port or -1) are checked here so every bad value gets a message that
+// names the option.
+#include <cmath>
+#include <stdexcept>
+
+#include <CLI/CLI.hpp>
+
+#include "throng/server/server_options.h"
+
+namespace throng::server {
+
+namespace {
+
+void require_finite(double v, const char* option) {
+  if (!std::isfinite(v)) throw CLI::ValidationError(option, "must be a finite number");
+}
+
+}  // namespace
+
+ParseResult parse_server_options(const std::vector<std::string>& args) {
+  ServerOptions o;
+  auto& m = o.match;
+  CLI::App app{
+      "throng-server: hosts one authoritative crowd-battle match over DDS.\n"
+      "Clients join, send commands and receive snapshots of the objects near their camera; NPCs\n"
+      "are driven by the battle AI. Stops after --duration or on SIGINT/SIGTERM (graceful).",
+      "throng-server"};
+  app.option_defaults()->always_capture_default();
+  app.add_option("--scene", o.scene, "built-in scene (battle, crush, street, obstacles, mixed, one_cell) or scene JSON file");
+  app.add_option("--npcs", o.npcs, "scale the scene to this many bodies at the same density (0 = scene's own count)")
+      ->check(CLI::Range(std::uint64_t{0}, std::uint64_t{1'000'000}));
+  app.add_option("--tick-hz", m.tick_hz, "simulation and snapshot rate")->check(CLI::Range(1u, 240u));
+  app.add_option("--domain", o.domain, "DDS domain id")->check(CLI::Range(0, 232));
+  app.add_flag("!--network", o.loopback_only,
+               "use Fast DDS's default transports and discovery (real network) instead of 127.0.0.1 only");
+  app.add_option("--duration", o.duration_s, "seconds to run (0 = until SIGINT/SIGTERM)")->check(CLI::Range(0.0, 1e7));
+  app.add_option("--admin-port", o.admin_port, "admin HTTP port (/healthz /readyz /metrics); 0 = any free port, -1 = off")
+      ->check(CLI::Range(-1, 65535));
+  app.add_option("--admin-bind", o.admin_bind, "admin HTTP bind address");
+  app.add_option("--max-clients", m.max_clients, "clients admitted at once; more are refused (match_full)")
+      ->check(CLI::Range(1u, 4096u));
+  app.add_option("--client-timeout", m.client_timeout_s, "seconds without a command before a client is dropped")
+      ->check(CLI::Range(0.1, 3600.0));
+  app.add_option("--max-commands-per-tick", m.max_commands_per_tick, "per client; more in one tick are rejected (rate_limited)")
+      ->check(CLI::Range(1u, 1000u));
+  app.add_option("--interest-radius", m.interest.radius_m, "metres around a client's camera it receives objects from (0 = whole world)")
+      ->check(CLI::Range(0.0, 100000.0));
+  double client_kbps = m.interest.budget_bytes * 8.0 * m.tick_hz / 1000.0;
+  app.add_option("--client-kbps", client_kbps, "snapshot budget per client in kbit/s (0 = unlimited)")
+      ->check(CLI::Range(0.0, 1e6));
+  app.add_option("--player-speed", m.player_speed_mps, "m/s of a player moving at full stick")->check(CLI::Range(0.1, 50.0));
+  app.add_option("--npc-speed", m.npc_speed_mps, "m/s NPCs march at")->check(CLI::Range(0.0, 50.0));
+  app.add_option("--summary-json", o.summary_json, "write the end-of-match summary to this JSON file");
+  app.add_option("--log-level", o.log_level, "trace, debug, info, warn or error")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
+
+  ParseResult result;
+  try {
+    std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 parses a reversed vector
+    app.parse(reversed);
+    require_finite(o.duration_s, "--duration");
+    require_finite(m.client_timeout_s, "--client-timeout");
+    require_finite(m.interest.radius_m, "--interest-radius");
+    require_finite(client_kbps, "--client-kbps");
+    require_finite(m.player_speed_mps, "--player-speed");
+    require_finite(m.npc_speed_mps, "--npc-speed");
+    m.interest.budget_bytes = static_cast<std::uint32_t>(std::floor(client_kbps * 1000.0 / 8.0 / m.tick_hz));
+    if (client_kbps > 0.0 && m.interest.budget_bytes < 128)
+      throw CLI::ValidationError("--client-kbps", "leaves under 128 bytes per snapshot at this tick rate");
+    m.interest.keepalive_ticks = m.tick_hz;  // an unchanged object is refreshed once a second
+  } catch (const CLI::ParseError& e) {
+    result.exit_code = e.get_exit_code();
+    result.message = e.get_name() == "CallForHelp" ? app.help() : std::string("throng-server: ") + e.what() + "\nRun with --help for the options.";
+    if (e.get_name() == "CallForHelp") result.exit_code = 0;
+    else if (result.exit_code == 0) result.exit_code = 2;
+    return result;
+  }
+  result.options = o;
+  return result;
+}
+
+}  // namespace throng::server

@@ -1,0 +1,43 @@
+#include "throng/server/server_metrics.h"
+
+#include <string>
+
+namespace throng::server {
+
+namespace {
+// Tick and phase durations: 0.1 ms .. ~3.3 s in factors of 2, so a 33 ms period falls in the
+// middle of the range and both fast ticks and stalls are resolved.
+std::vector<double> duration_buckets() { return admin::exponential_buckets(0.0001, 2.0, 16); }
+}  // namespace
+
+ServerMetrics::ServerMetrics(admin::MetricsRegistry& r)
+    : ticks(r.counter("throng_ticks_total", "Simulation ticks run.")),
+      overruns(r.counter("throng_tick_overruns_total", "Ticks that ended after the next tick's deadline.")),
+      skipped_ticks(r.counter("throng_ticks_skipped_total", "Ticks given up after a stall longer than the catch-up bound.")),
+      tick_seconds(r.histogram("throng_tick_duration_seconds", "Wall time of a whole tick (simulate and publish).", duration_buckets())),
+      phase_seconds_step(r.histogram("throng_tick_phase_seconds", "Wall time of a tick phase.", duration_buckets(), {{"phase", "step"}})),
+      phase_seconds_publish(r.histogram("throng_tick_phase_seconds", "Wall time of a tick phase.", duration_buckets(), {{"phase", "publish"}})),
+      clients(r.gauge("throng_clients", "Connected clients.")),
+      bodies(r.gauge("throng_bodies", "Movable bodies in the world.")),
+      joins_accepted(r.counter("throng_joins_total", "Join requests, by result.", {{"result", "accepted"}})),
+      joins_refused(r.counter("throng_joins_total", "Join requests, by result.", {{"result", "refused"}})),
+      leaves(r.counter("throng_client_departures_total", "Clients that left, by how.", {{"how", "left"}})),
+      timeouts(r.counter("throng_client_departures_total", "Clients that left, by how.", {{"how", "timed_out"}})),
+      commands_accepted(r.counter("throng_commands_accepted_total", "Client commands accepted and applied.")),
+      input_queue_dropped(r.counter("throng_input_queue_dropped_total", "Inputs dropped because the input queue was full (a flood).")),
+      param_updates_applied(r.counter("throng_param_updates_total", "Operator parameter/policy changes, by result.", {{"result", "applied"}})),
+      param_updates_rejected(r.counter("throng_param_updates_total", "Operator parameter/policy changes, by result.", {{"result", "rejected"}})),
+      snapshot_samples(r.counter("throng_snapshot_samples_total", "Snapshot samples published (one per client per tick).")),
+      snapshot_bytes(r.counter("throng_snapshot_bytes_total", "Serialized snapshot payload bytes published.")),
+      snapshot_poses(r.counter("throng_snapshot_poses_total", "Object poses carried by published snapshots.")),
+      other_samples(r.counter("throng_other_samples_total", "Samples published on the other topics (match info, replies, stats).")),
+      other_bytes(r.counter("throng_other_bytes_total", "Serialized payload bytes published on the other topics.")),
+      push_events(r.counter("throng_push_events_total", "Contacts the solver pushed apart.")),
+      view_error_max_m(r.gauge("throng_view_error_max_meters", "Largest distance between an object and a client's copy of it, last tick.")),
+      state_hash_low32(r.gauge("throng_state_hash_low32", "Low 32 bits of the last tick's world state hash (determinism checks).")) {
+  for (std::size_t i = 0; i < match::kRejectReasonCount; ++i)
+    commands_rejected[i] = &r.counter("throng_commands_rejected_total", "Client commands rejected, by reason.",
+                                      {{"reason", match::to_string(static_cast<match::RejectReason>(i))}});
+}
+
+}  // namespace throng::server
