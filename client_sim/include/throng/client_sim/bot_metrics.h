@@ -1,0 +1,76 @@
+#pragma once
+// What one bot measures, fed with timestamps by its owner (no clock inside, so tests can feed
+// exact times). Not thread-safe: the Bot serializes access.
+//
+//  - command -> applied latency: for every command expected to be accepted, from its send time to
+//    the receive time of the first snapshot whose last_applied_sequence >= its sequence.
+//  - snapshots: samples and payload bytes received, inter-arrival time between consecutive
+//    snapshots, missed ticks (a tick jump of k > 1 counts k - 1), out-of-order/duplicate samples.
+//  - join time: launch -> first snapshot.
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <optional>
+
+#include "throng/client_sim/behavior.h"
+#include "throng/client_sim/stats.h"
+
+namespace throng::client_sim {
+
+using Clock = std::chrono::steady_clock;
+using TimePoint = Clock::time_point;
+
+inline double ms_between(TimePoint a, TimePoint b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+struct CommandCounts {
+  std::uint64_t sent = 0;
+  std::uint64_t expect_accept = 0, expect_reject = 0, expect_unknown = 0;
+  std::uint64_t applied = 0;  // expected-accepted commands seen applied
+};
+
+struct SnapshotCounts {
+  std::uint64_t samples = 0;
+  std::uint64_t bytes = 0;
+  std::uint64_t missed_ticks = 0;
+  std::uint64_t out_of_order = 0;  // tick not newer than the newest seen (dropped)
+};
+
+class BotMetrics {
+ public:
+  void on_launch(TimePoint t) { launch_ = t; }
+  void on_command_sent(std::uint32_t sequence, Expect expect, TimePoint t);
+  // Every received sample (bytes, arrival, ticks).
+  void on_snapshot_received(std::uint64_t tick, std::size_t wire_bytes, TimePoint t);
+  // A snapshot the world accepted: resolves pending commands.
+  void on_applied_sequence(std::uint32_t last_applied_sequence, TimePoint t);
+
+  const CommandCounts& commands() const { return commands_; }
+  const SnapshotCounts& snapshots() const { return snapshots_; }
+  const Samples& latency_ms() const { return latency_ms_; }
+  const Samples& interarrival_ms() const { return interarrival_ms_; }
+  std::optional<double> join_ms() const;
+  std::optional<TimePoint> first_snapshot() const { return first_snapshot_; }
+  std::optional<TimePoint> last_snapshot() const { return last_snapshot_; }
+  std::size_t pending_commands() const { return pending_.size(); }
+
+  // Latencies measured since the last call (for the live progress line).
+  Samples take_window_latency();
+
+ private:
+  struct Pending {
+    std::uint32_t sequence;
+    TimePoint sent;
+  };
+  std::optional<TimePoint> launch_;
+  std::optional<TimePoint> first_snapshot_, last_snapshot_;
+  std::optional<std::uint64_t> newest_tick_;
+  std::deque<Pending> pending_;
+  CommandCounts commands_;
+  SnapshotCounts snapshots_;
+  Samples latency_ms_, interarrival_ms_, window_latency_ms_;
+};
+
+}  // namespace throng::client_sim

@@ -1,0 +1,108 @@
+// throng-bots as a program: no server, a normal run with --json and Ctrl-C, ramp mode.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <thread>
+
+#include "child_process.h"
+
+namespace throng::client_sim {
+namespace {
+
+using testing::ChildProcess;
+using testing::TempDir;
+
+const std::string kBots = THRONG_BIN_DIR "/throng-bots";
+
+TEST(BotsCli, NoServerIsAClearErrorAndNonZeroExit) {
+  TempDir dir;
+  ChildProcess bots(kBots, {"--clients", "2", "--duration", "5", "--domain", "173", "--server-wait", "1"}, dir / "out",
+                    dir / "err");
+  const auto code = bots.wait(std::chrono::seconds(20));
+  ASSERT_TRUE(code);
+  EXPECT_EQ(*code, 2);
+  EXPECT_NE(testing::read_file(dir / "err").find("no server on domain 173 within 1 s"), std::string::npos)
+      << testing::read_file(dir / "err");
+}
+
+TEST(BotsCli, BadUsageIsRefused) {
+  TempDir dir;
+  ChildProcess bots(kBots, {"--behavior", "moonwalk"}, dir / "out", dir / "err");
+  const auto code = bots.wait(std::chrono::seconds(20));
+  ASSERT_TRUE(code);
+  EXPECT_NE(*code, 0);
+  EXPECT_NE(testing::read_file(dir / "err").find("moonwalk"), std::string::npos);
+}
+
+TEST(BotsCli, RunsWritesJsonAndLeavesOnSigint) {
+  constexpr int kDomain = 174;
+  TempDir dir;
+  auto server = testing::start_server(kDomain, dir);
+  ChildProcess bots(kBots,
+                    {"--clients", "4", "--duration", "60", "--domain", std::to_string(kDomain), "--behavior", "mix",
+                     "--json", (dir / "bots.json").string(), "--server-wait", "20"},
+                    dir / "bots.out", dir / "bots.err");
+  // Let them join and play a little, then Ctrl-C.
+  std::this_thread::sleep_for(std::chrono::seconds(6));
+  ASSERT_TRUE(bots.running()) << testing::read_file(dir / "bots.err");
+  bots.signal(SIGINT);
+  const auto code = bots.wait(std::chrono::seconds(20));
+  ASSERT_TRUE(code) << "throng-bots did not exit after SIGINT";
+  EXPECT_EQ(*code, 0) << testing::read_file(dir / "bots.err");
+
+  const std::string out = testing::read_file(dir / "bots.out");
+  EXPECT_NE(out.find("cmd->applied"), std::string::npos) << out;
+  const std::string err = testing::read_file(dir / "bots.err");
+  EXPECT_NE(err.find("clients"), std::string::npos) << "progress lines on stderr";
+  const auto j = nlohmann::json::parse(testing::read_file(dir / "bots.json"));
+  EXPECT_EQ(j["clients"], 4);
+  EXPECT_EQ(j["tick_hz"], 30);
+  for (const char* k : {"p50", "p90", "p99", "max"}) EXPECT_TRUE(j["latency_ms"].contains(k)) << k;
+  EXPECT_TRUE(j.contains("snapshot_gap_ticks"));
+  EXPECT_TRUE(j["kbit_per_s_per_client"].contains("mean"));
+  EXPECT_TRUE(j["kbit_per_s_per_client"].contains("max"));
+  EXPECT_TRUE(j["join_ms"].contains("p50"));
+  EXPECT_TRUE(j["join_ms"].contains("p99"));
+  EXPECT_GT(j["commands"]["sent"].get<std::uint64_t>(), 0u);
+  EXPECT_GT(j["commands"]["applied"].get<std::uint64_t>(), 0u);
+  EXPECT_FALSE(j["server_stats"].is_null());
+  ASSERT_EQ(j["per_client"].size(), 4u);
+
+  const auto summary = testing::stop_server_and_read_summary(*server, dir);
+  for (const auto& c : j["per_client"]) {
+    const nlohmann::json* s = testing::find_client(summary, c["name"].get<std::string>());
+    ASSERT_NE(s, nullptr) << c["name"];
+    EXPECT_EQ((*s)["departure"], "left") << "leave messages were sent on SIGINT";
+  }
+}
+
+TEST(BotsCli, RampReportsSteps) {
+  constexpr int kDomain = 175;
+  TempDir dir;
+  auto server = testing::start_server(kDomain, dir);
+  ChildProcess bots(kBots,
+                    {"--ramp", "--ramp-start", "2", "--ramp-step", "2", "--ramp-max", "4", "--ramp-step-s", "2.5",
+                     "--ramp-settle-s", "0.5", "--domain", std::to_string(kDomain), "--json",
+                     (dir / "ramp.json").string(), "--server-wait", "20", "--quiet"},
+                    dir / "out", dir / "err");
+  const auto code = bots.wait(std::chrono::seconds(90));
+  ASSERT_TRUE(code) << "ramp did not finish";
+  EXPECT_EQ(*code, 0) << testing::read_file(dir / "err");
+  const auto j = nlohmann::json::parse(testing::read_file(dir / "ramp.json"));
+  ASSERT_TRUE(j.contains("ramp"));
+  const auto& ramp = j["ramp"];
+  ASSERT_GE(ramp["steps"].size(), 1u);
+  EXPECT_EQ(ramp["steps"][0]["clients"], 2);
+  for (const auto& s : ramp["steps"]) {
+    EXPECT_TRUE(s["server_stats_seen"].get<bool>()) << s.dump();
+    EXPECT_GT(s["ticks"].get<std::uint64_t>(), 0u);
+  }
+  const auto best = ramp["max_sustained_clients"].get<std::uint32_t>();
+  EXPECT_TRUE(best == 0 || best == 2 || best == 4) << best;
+  EXPECT_FALSE(ramp["stopped_because"].get<std::string>().empty());
+  EXPECT_NE(testing::read_file(dir / "out").find("largest sustained"), std::string::npos);
+  testing::stop_server_and_read_summary(*server, dir);
+}
+
+}  // namespace
+}  // namespace throng::client_sim
