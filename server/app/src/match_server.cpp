@@ -59,6 +59,7 @@ struct MatchServer::Impl {
   match::Outbox outbox;
   ClientLedger ledger;
   DurationStats tick_all, tick_window, publish_all;
+  PhaseStats phases;  // per named phase, for the summary
   protocol::TransportCounters published_before{};
   std::atomic<bool> stop_requested{false};
   std::atomic<bool> ready{false};
@@ -169,6 +170,7 @@ void MatchServer::Impl::run_tick(Clock::time_point woke) {
   tick_all.add(tick_s);
   tick_window.add(tick_s);
   publish_all.add(seconds_between(published_at, done));
+  phases.add(report, seconds_between(published_at, done));
   push_events_total += report.push_events;
   poses_total += report.snapshot_poses;
   view_error_max_m = std::max(view_error_max_m, report.view_error_max_m);
@@ -300,6 +302,7 @@ nlohmann::json MatchServer::summary() const {
   in.poses = m.poses_total;
   in.view_error_max_m = m.view_error_max_m;
   in.scene_name = m.scene.name;
+  in.phases = &m.phases;
   return make_summary(in);
 }
 

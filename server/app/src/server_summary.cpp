@@ -27,6 +27,11 @@ nlohmann::json make_summary(const SummaryInputs& in) {
   j["tick_ms"] = ms(in.tick);
   j["tick_budget_ms"] = 1000.0 / m.config().tick_hz;
   j["publish_ms"] = ms(in.publish);
+  if (in.phases) {
+    const auto& p = *in.phases;
+    j["phase_ms"] = {{"drain", ms(p.drain)}, {"apply", ms(p.apply)}, {"ai", ms(p.ai)}, {"step", ms(p.step)},
+                     {"snapshots", ms(p.snapshots)}, {"publish", ms(p.publish)}};
+  }
   j["commands_accepted"] = m.commands_accepted_total();
   std::uint64_t rejected = 0;
   nlohmann::json by_reason = nlohmann::json::object();
@@ -72,6 +77,12 @@ std::string format_summary(const nlohmann::json& s) {
   const auto& t = s["tick_ms"];
   line(fmt::format("tick ms  p50 {:.2f}  p90 {:.2f}  p99 {:.2f}  max {:.2f}  (budget {:.2f})", t["p50"].get<double>(),
                    t["p90"].get<double>(), t["p99"].get<double>(), t["max"].get<double>(), s["tick_budget_ms"].get<double>()));
+  if (s.contains("phase_ms")) {
+    std::string phases;
+    for (const char* name : {"drain", "apply", "ai", "step", "snapshots", "publish"})
+      phases += fmt::format("  {} {:.2f}/{:.2f}", name, s["phase_ms"][name]["p50"].get<double>(), s["phase_ms"][name]["p99"].get<double>());
+    line("phase ms p50/p99" + phases);
+  }
   line(fmt::format("clients {} ever, {} at end", s["clients"].size(), s["clients_connected_at_end"].get<std::uint32_t>()));
   std::string reasons;
   for (const auto& [k, v] : s["rejected_by_reason"].items())

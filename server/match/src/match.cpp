@@ -138,6 +138,7 @@ void Match::begin_shutdown() {
 
 const protocol::MatchInfo& Match::match_info() const { return impl_->info; }
 std::uint64_t Match::tick_index() const { return impl_->ticks; }
+const TickInputs& Match::last_inputs() const { return impl_->inputs; }
 std::uint64_t Match::state_hash() const { return impl_->world().state_hash(); }
 std::uint32_t Match::client_count() const { return static_cast<std::uint32_t>(impl_->clients.connected_count()); }
 

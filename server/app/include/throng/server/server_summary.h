@@ -13,6 +13,19 @@
 
 namespace throng::server {
 
+// Durations of the tick's named phases (match.h TickReport, plus publishing).
+struct PhaseStats {
+  DurationStats drain, apply, ai, step, snapshots, publish;
+  void add(const match::TickReport& r, double publish_s) {
+    drain.add(r.drain_us * 1e-6);
+    apply.add(r.apply_us * 1e-6);
+    ai.add(r.ai_us * 1e-6);
+    step.add(r.step_us * 1e-6);
+    snapshots.add(r.snapshots_us * 1e-6);
+    publish.add(publish_s);
+  }
+};
+
 struct SummaryInputs {
   const match::Match& match;
   const ClientLedger& ledger;
@@ -25,6 +38,7 @@ struct SummaryInputs {
   std::uint64_t poses = 0;
   double view_error_max_m = 0;
   std::string scene_name;
+  const PhaseStats* phases = nullptr;
 };
 
 nlohmann::json make_summary(const SummaryInputs& in);

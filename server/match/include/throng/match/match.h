@@ -110,6 +110,11 @@ class Match {
   void begin_shutdown();
 
   const protocol::MatchInfo& match_info() const;
+  // The inputs the last tick() drained, in the order it applied them (rejected ones included:
+  // they are part of what happened, and re-applying them changes nothing). Feeding exactly these
+  // to a fresh Match with the same scene and config, tick by tick, reproduces every state hash —
+  // which is what the match log records and replay verifies.
+  const TickInputs& last_inputs() const;
   std::uint64_t tick_index() const;         // ticks simulated so far
   std::uint64_t state_hash() const;
   std::uint32_t client_count() const;
