@@ -92,6 +92,14 @@ void ServerTransport::start(Handlers handlers) {
   s.started = true;
 }
 
+void ServerTransport::flush(std::chrono::milliseconds timeout) {
+  // Reliable writers only: best-effort snapshots have nothing to wait for.
+  const eprosima::fastrtps::Duration_t max_wait(static_cast<std::int32_t>(timeout.count() / 1000),
+                                                static_cast<std::uint32_t>((timeout.count() % 1000) * 1'000'000));
+  for (dds::DataWriter* w : {impl_->match_info_writer, impl_->join_reply_writer, impl_->param_reply_writer, impl_->stats_writer})
+    if (w) (void)w->wait_for_acknowledgments(max_wait);
+}
+
 void ServerTransport::publish_match_info(const MatchInfo& info) { impl_->publish_other(*impl_->match_info_writer, info); }
 
 void ServerTransport::publish_join_reply(const JoinReply& reply) {

@@ -99,6 +99,14 @@ void MatchServer::request_stop() { impl_->stop_requested.store(true); }
 std::uint16_t MatchServer::admin_port() const { return impl_->admin ? impl_->admin->port() : 0; }
 
 void MatchServer::Impl::publish_outbox() {
+  // Snapshots were already published by the match's workers through the sink (run()): only the
+  // bookkeeping is left, on this thread. Before the client events:
+  // a client that joined this tick had no channel yet, so its first snapshot went nowhere.
+  for (std::size_t i = 0; i < outbox.snapshot_count; ++i) {
+    const auto& s = outbox.snapshots[i];
+    ledger.snapshot_published(s.client_id, s.x.size());
+  }
+
   for (const auto& e : outbox.client_events) {
     switch (e.kind) {
       case match::ClientEvent::Kind::joined:
@@ -126,10 +134,6 @@ void MatchServer::Impl::publish_outbox() {
     else spdlog::warn("operator change {} rejected: {}", r.request_id, r.error);
   }
   if (outbox.match_info_changed) transport.publish_match_info(match.match_info());
-  for (std::size_t i = 0; i < outbox.snapshot_count; ++i) {
-    const auto& s = outbox.snapshots[i];
-    if (transport.publish_snapshot(s) > 0) ledger.snapshot_published(s.client_id, s.x.size());
-  }
 }
 
 void MatchServer::Impl::publish_stats(const match::TickReport& report) {
@@ -248,6 +252,9 @@ int MatchServer::run(bool handle_signals) {
       [&m](protocol::ParamUpdate&& u) { m.match.inputs().push(std::move(u)); },
   });
   m.transport.publish_match_info(m.match.match_info());
+  // Publish each snapshot from the worker that built it (the transport is thread-safe), so
+  // building and publishing overlap across clients.
+  m.match.set_snapshot_sink([&m](const protocol::Snapshot& s) { m.transport.publish_snapshot(s); });
 
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / m.options.match.tick_hz));
   m.started = Clock::now();
@@ -279,6 +286,7 @@ int MatchServer::run(bool handle_signals) {
   arm();
   io.run();
 
+  m.transport.flush(std::chrono::seconds(2));  // clients must hear "ended" before we vanish
   m.wall_seconds = seconds_between(m.started, Clock::now());
   m.ledger.update_commands(m.match);
   m.ready.store(false);

@@ -51,6 +51,8 @@ ParseResult parse_server_options(const std::vector<std::string>& args) {
       ->check(CLI::Range(0.0, 1e6));
   app.add_option("--player-speed", m.player_speed_mps, "m/s of a player moving at full stick")->check(CLI::Range(0.1, 50.0));
   app.add_option("--npc-speed", m.npc_speed_mps, "m/s NPCs march at")->check(CLI::Range(0.0, 50.0));
+  app.add_option("--threads", m.worker_threads, "threads building and publishing snapshots (results do not depend on it)")
+      ->check(CLI::Range(1u, 64u));
   app.add_option("--summary-json", o.summary_json, "write the end-of-match summary to this JSON file");
   app.add_option("--log-level", o.log_level, "trace, debug, info, warn or error")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));

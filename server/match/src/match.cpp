@@ -41,7 +41,10 @@ Match::Impl::Impl(const scene::SceneDef& scene_in, const MatchConfig& config_in,
       table(scene::load_param_table(scene.params)),
       built(scene::build_scene(scene)),
       ai(ai_settings(config)),
-      snapshots(config.interest) {
+      snapshots(config.interest),
+      pool(config.worker_threads),
+      scratches(pool.size()),
+      worker_totals(pool.size()) {
   timeout_ticks = static_cast<std::uint64_t>(std::llround(config.client_timeout_s * config.tick_hz));
   if (const params::ObjectParams* player = table.find_archetype("player")) player_importance = player->importance;
 
@@ -138,6 +141,7 @@ void Match::begin_shutdown() {
 
 const protocol::MatchInfo& Match::match_info() const { return impl_->info; }
 std::uint64_t Match::tick_index() const { return impl_->ticks; }
+void Match::set_snapshot_sink(SnapshotSink sink) { impl_->sink = std::move(sink); }
 const TickInputs& Match::last_inputs() const { return impl_->inputs; }
 std::uint64_t Match::state_hash() const { return impl_->world().state_hash(); }
 std::uint32_t Match::client_count() const { return static_cast<std::uint32_t>(impl_->clients.connected_count()); }

@@ -28,6 +28,7 @@ void validate_config(const MatchConfig& c) {
         fmt::format("client_timeout_s: {} s is shorter than one tick at {} Hz", c.client_timeout_s, c.tick_hz));
   }
   check(c.max_commands_per_tick, 1, 1000, "max_commands_per_tick");
+  check(c.worker_threads, 1, 64, "worker_threads");
   check(c.player_speed_mps, 0.0, 100.0, "player_speed_mps", true);
   check(c.npc_speed_mps, 0.0, 100.0, "npc_speed_mps", true);
   check(c.camera_limit_m, 0.0, 1e7, "camera_limit_m", true);

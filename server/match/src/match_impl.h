@@ -7,12 +7,14 @@
 //   match_snapshots.cpp one Snapshot per connected client
 #include <array>
 #include <cstdint>
+#include <exception>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "client_registry.h"
 #include "npc_ai.h"
+#include "worker_pool.h"
 #include "throng/match/input_queue.h"
 #include "throng/match/match.h"
 #include "throng/match/match_config.h"
@@ -72,6 +74,17 @@ struct Match::Impl {
   ClientRegistry clients;
   NpcAi ai;
   SnapshotBuilder snapshots;
+  // The snapshots phase runs on config.worker_threads threads (worker_pool.h); one Scratch and
+  // one partial-statistics slot per worker, reduced after the phase.
+  WorkerPool pool;
+  std::vector<SnapshotBuilder::Scratch> scratches;
+  struct WorkerTotals {
+    std::uint32_t poses = 0;
+    double view_error_max_m = 0;
+    std::exception_ptr error;
+  };
+  std::vector<WorkerTotals> worker_totals;
+  SnapshotSink sink;
   protocol::MatchInfo info;
   TickReport report;
   std::array<std::uint64_t, kRejectReasonCount> rejected{};

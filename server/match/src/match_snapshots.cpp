@@ -1,5 +1,8 @@
 // The snapshots phase: the interest grid is indexed once with this tick's bodies, then one
-// Snapshot per connected client, in client-id order, written into the outbox's reused elements.
+// Snapshot per connected client, written into the outbox's reused elements (slot k = the k-th
+// connected client in id order). Clients are built on the worker pool; every build reads only the
+// index and writes only its own client's state and slot, so the bytes do not depend on the
+// threads, and the statistics are reduced with sum/max, which do not depend on the order either.
 #include <algorithm>
 
 #include "match_impl.h"
@@ -15,23 +18,38 @@ void Match::Impl::build_snapshots(std::uint64_t tick, Outbox& out) {
   snapshots.index(BodyView{id_values, xs, ys, zs, yaw}, tick);
   const auto ids = clients.connected_ids();
   if (out.snapshots.size() < ids.size()) out.snapshots.resize(ids.size());
-  for (std::size_t k = 0; k < ids.size(); ++k) {
-    const ClientRecord& c = *clients.find(ids[k]);
-    protocol::Snapshot& s = out.snapshots[k];
-    const std::uint32_t d = dense_of(c.entity);
-    s.client_id = c.id;
-    s.tick = tick;
-    s.last_applied_sequence = c.last_applied_sequence;
-    s.last_applied_tick = c.last_applied_tick;
-    s.entity = c.entity.value;
-    s.entity_x = static_cast<float>(xs[d]);
-    s.entity_y = static_cast<float>(ys[d]);
-    s.entity_z = static_cast<float>(zs[d]);
-    s.entity_yaw = yaw[d];
-    const Vec3 cam = camera_of(c);
-    const BuildStats& st = snapshots.build(c.id, cam.x, cam.y, s);
-    report.snapshot_poses += st.sent;
-    report.view_error_max_m = std::max(report.view_error_max_m, st.view_error_max_m);
+  for (auto& t : worker_totals) t = WorkerTotals{};
+
+  auto build_one = [&](unsigned worker, std::size_t k) {
+    WorkerTotals& totals = worker_totals[worker];
+    if (totals.error) return;
+    try {
+      const ClientRecord& c = *clients.find(ids[k]);
+      protocol::Snapshot& s = out.snapshots[k];
+      const std::uint32_t d = dense_of(c.entity);
+      s.client_id = c.id;
+      s.tick = tick;
+      s.last_applied_sequence = c.last_applied_sequence;
+      s.last_applied_tick = c.last_applied_tick;
+      s.entity = c.entity.value;
+      s.entity_x = static_cast<float>(xs[d]);
+      s.entity_y = static_cast<float>(ys[d]);
+      s.entity_z = static_cast<float>(zs[d]);
+      s.entity_yaw = yaw[d];
+      const Vec3 cam = camera_of(c);
+      const BuildStats& st = snapshots.build(c.id, cam.x, cam.y, s, scratches[worker]);
+      totals.poses += st.sent;
+      totals.view_error_max_m = std::max(totals.view_error_max_m, st.view_error_max_m);
+      if (sink) sink(s);
+    } catch (...) {
+      totals.error = std::current_exception();  // rethrown on the tick thread below
+    }
+  };
+  pool.for_each(ids.size(), build_one);
+  for (const auto& t : worker_totals) {
+    if (t.error) std::rethrow_exception(t.error);
+    report.snapshot_poses += t.poses;
+    report.view_error_max_m = std::max(report.view_error_max_m, t.view_error_max_m);
   }
   out.snapshot_count = ids.size();
 }

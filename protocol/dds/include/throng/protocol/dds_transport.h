@@ -69,6 +69,11 @@ class ServerTransport {
 
   TransportCounters counters() const;
 
+  // Waits (at most timeout) until every matched reader acknowledged what the reliable writers
+  // sent — match info, join/param replies, stats. Called before exiting so the final "ended" match
+  // info is not lost with the participant.
+  void flush(std::chrono::milliseconds timeout);
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;

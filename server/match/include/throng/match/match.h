@@ -12,6 +12,7 @@
 //   snapshots — one Snapshot per client (snapshot_builder.h)
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -102,6 +103,12 @@ class Match {
   Match& operator=(const Match&) = delete;
 
   InputQueue& inputs();
+
+  // Called for each client's snapshot as soon as it is built, on the snapshot worker threads
+  // (several at once: it must be thread-safe — the DDS transport is). Lets the server publish
+  // while other snapshots are still being built. Snapshots are still left in the Outbox.
+  using SnapshotSink = std::function<void(const protocol::Snapshot&)>;
+  void set_snapshot_sink(SnapshotSink sink);
 
   // Runs one tick (the phases above) and fills out (out.clear() is called first).
   const TickReport& tick(Outbox& out);

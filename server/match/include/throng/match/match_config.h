@@ -21,6 +21,9 @@ struct MatchConfig {
   double player_speed_mps = 4.0;          // |move| = 1 gives this speed (sprint x1.5)
   double npc_speed_mps = 1.2;             // NPC cruising speed
   double camera_limit_m = 10000.0;        // |camera coordinate| above this is rejected
+  // Threads building (and, with a sink, publishing) the clients' snapshots, the caller included.
+  // Results do not depend on it: each client's snapshot depends only on the world and its own history.
+  std::uint32_t worker_threads = 2;
   std::uint64_t seed = 1;                 // AI tie-breaks (deterministic)
   InterestConfig interest;
 };
