@@ -16,6 +16,8 @@ PACKAGES=(
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools  # eProsima Fast DDS 2.9: topics, IDL compiler, CLI
   libboost-dev         # Asio (fixed-tick loop, signals) and Beast (admin HTTP, viewer WebSocket)
   libspdlog-dev        # server/bot logs with levels and timestamps
+  chromium             # headless browser for throng-view's end-to-end test (DevTools protocol)
+  libzstd-dev          # match-log tick blocks compressed with zstd
 )
 
 if [ "$(id -u)" -ne 0 ]; then SUDO=sudo; else SUDO=; fi

@@ -1,0 +1,52 @@
+// throng-view: a thin-client gateway. Joins a running throng-server as an ordinary client over
+// DDS (the bots' path) and serves a web page that draws the client's view of the match and lets a
+// person control its character (HTTP + WebSocket, Boost.Beast). The page protocol is in
+// client_sim/view/README.md, the threads in gateway_loop.h.
+#include <atomic>
+#include <csignal>
+
+#include <CLI/CLI.hpp>
+
+#include "gateway_loop.h"
+
+namespace {
+
+std::atomic<bool> g_stop{false};
+static_assert(std::atomic<bool>::is_always_lock_free);
+
+extern "C" void on_signal(int) {
+  g_stop.store(true);
+  std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C ends at once
+  std::signal(SIGTERM, SIG_DFL);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  throng::view::ViewOptions o;
+  CLI::App app{
+      "throng-view: joins a throng-server match as a client over DDS and serves a page that draws it and "
+      "controls the character (http://127.0.0.1:PORT/)"};
+  app.option_defaults()->always_capture_default();
+  app.add_option("--domain", o.domain, "DDS domain id of the server")->check(CLI::Range(0, 232));
+  app.add_option("--port", o.port, "HTTP/WebSocket port (0 = any free port)")->check(CLI::Range(0, 65535));
+  app.add_option("--bind", o.bind, "address to serve the page on (0.0.0.0 = every interface)");
+  app.add_option("--name", o.name, "client name the server logs (at most 64 bytes)")
+      ->check([](const std::string& v) { return v.size() <= 64 ? std::string() : std::string("at most 64 bytes"); });
+  app.add_option("--server-wait", o.server_wait_s, "seconds to wait for the server")->check(CLI::PositiveNumber);
+  app.add_option("--join-timeout", o.join_timeout_s, "seconds to wait for the join reply")->check(CLI::PositiveNumber);
+  app.add_flag("--loopback,!--no-loopback", o.loopback,
+               "DDS on 127.0.0.1 only (default) or Fast DDS's default transports and discovery");
+  app.add_option("--web-root", o.web_root,
+                 "serve the page from this folder instead of the copy built into the binary (for editing)")
+      ->check(CLI::ExistingDirectory);
+  app.add_flag("--quiet,-q", o.quiet, "no status line every 10 s");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 1;
+  }
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  return throng::view::run_gateway(o, g_stop);
+}

@@ -1,0 +1,273 @@
+#include "throng/view/gateway.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+#include <random>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+namespace throng::view {
+
+namespace {
+
+constexpr auto kWindow = std::chrono::seconds(1);
+
+std::uint64_t random_nonce() {
+  std::random_device rd;
+  std::uint64_t v = 0;
+  while (v == 0) v = (static_cast<std::uint64_t>(rd()) << 32) ^ rd();
+  return v;
+}
+
+// Millimetres are plenty for drawing and keep the JSON short (floats would print 17 digits).
+double mm(double v) { return std::isfinite(v) ? std::round(v * 1000.0) / 1000.0 : 0.0; }
+
+const char* kind_name(protocol::ShapeKind k) {
+  switch (k) {
+    case protocol::ShapeKind::box: return "box";
+    case protocol::ShapeKind::cylinder: return "cylinder";
+    case protocol::ShapeKind::mesh: return "mesh";
+  }
+  return "unknown";
+}
+
+nlohmann::json scenery_json(const protocol::SceneryShape& s) {
+  nlohmann::json j = {{"id", s.id},
+                      {"kind", kind_name(s.kind)},
+                      {"archetype", s.archetype},
+                      {"softness", mm(s.softness)},
+                      {"cx", mm(s.cx)},
+                      {"cy", mm(s.cy)},
+                      {"cz", mm(s.cz)}};
+  switch (s.kind) {
+    case protocol::ShapeKind::box:
+      j["hx"] = mm(s.hx);
+      j["hy"] = mm(s.hy);
+      j["hz"] = mm(s.hz);
+      j["yaw"] = mm(s.yaw_rad);
+      break;
+    case protocol::ShapeKind::cylinder:
+      j["radius"] = mm(s.radius);
+      j["half_height"] = mm(s.half_height);
+      break;
+    case protocol::ShapeKind::mesh: {
+      // Only well-formed triangles: indices inside the vertex array.
+      const std::size_t nv = s.vertices.size() / 3;
+      std::vector<double> v;
+      v.reserve(nv * 3);
+      for (std::size_t i = 0; i < nv * 3; ++i) v.push_back(mm(s.vertices[i]));
+      std::vector<std::uint32_t> t;
+      for (std::size_t i = 0; i + 2 < s.triangles.size(); i += 3) {
+        if (s.triangles[i] < nv && s.triangles[i + 1] < nv && s.triangles[i + 2] < nv)
+          t.insert(t.end(), {s.triangles[i], s.triangles[i + 1], s.triangles[i + 2]});
+      }
+      j["vertices"] = std::move(v);
+      j["triangles"] = std::move(t);
+      break;
+    }
+  }
+  return j;
+}
+
+std::string build_match_json(const protocol::MatchInfo& m) {
+  nlohmann::json j;
+  j["type"] = "match";
+  j["match_id"] = m.match_id;
+  j["scene"] = m.scene_name;
+  j["tick_hz"] = m.tick_hz;
+  j["interest_radius_m"] = mm(m.interest_radius_m);
+  j["ended"] = m.state == protocol::MatchState::ended;
+  j["bounds"] = {mm(m.world_min_x), mm(m.world_min_y), mm(m.world_max_x), mm(m.world_max_y)};
+  j["archetypes"] = m.archetypes;
+  j["character_types"] = {"player", "npc", "mount", "prop"};  // params::CharacterType order
+  nlohmann::json scenery = nlohmann::json::array();
+  for (const auto& s : m.scenery) scenery.push_back(scenery_json(s));
+  j["scenery"] = std::move(scenery);
+  // Structure-of-arrays like the protocol (cut to the shortest array, as MatchView does).
+  const auto& r = m.roster;
+  const std::size_t n = std::min({r.id.size(), r.radius_mm.size(), r.half_height_mm.size(), r.faction.size(),
+                                  r.character_type.size(), r.archetype.size()});
+  std::vector<double> radius(n), half_height(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    radius[i] = r.radius_mm[i] / 1000.0;
+    half_height[i] = r.half_height_mm[i] / 1000.0;
+  }
+  auto first = [n](const auto& v) { return std::vector(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(n)); };
+  j["roster"] = {{"id", first(r.id)},
+                 {"radius", radius},
+                 {"half_height", half_height},
+                 {"faction", first(r.faction)},
+                 {"type", first(r.character_type)},
+                 {"archetype", first(r.archetype)}};
+  return j.dump();
+}
+
+}  // namespace
+
+const char* Gateway::to_string(State s) {
+  switch (s) {
+    case State::created: return "created";
+    case State::joining: return "joining";
+    case State::joined: return "joined";
+    case State::refused: return "refused";
+    case State::left: return "left";
+  }
+  return "?";
+}
+
+Gateway::Gateway(GatewayOptions options) : options_(std::move(options)), world_(options_.world) {
+  if (options_.nonce == 0) options_.nonce = random_nonce();
+}
+
+protocol::JoinRequest Gateway::join_request(TimePoint now) {
+  if (state_ == State::created) state_ = State::joining;
+  if (!join_sent_) join_sent_ = now;
+  last_join_sent_ = now;
+  protocol::JoinRequest r;
+  r.client_nonce = options_.nonce;
+  r.name = options_.name;
+  return r;
+}
+
+bool Gateway::on_join_reply(const protocol::JoinReply& reply) {
+  if (reply.client_nonce != options_.nonce || state_ != State::joining) return false;
+  reply_ = reply;
+  state_ = reply.result == protocol::JoinResult::accepted ? State::joined : State::refused;
+  return state_ == State::joined;
+}
+
+std::optional<protocol::JoinRequest> Gateway::leave_request() {
+  if (state_ != State::joined) return std::nullopt;
+  state_ = State::left;
+  protocol::JoinRequest r;
+  r.client_nonce = options_.nonce;
+  r.name = options_.name;
+  r.leave = true;
+  r.client_id = reply_.client_id;
+  return r;
+}
+
+void Gateway::on_match_info(const protocol::MatchInfo& info) {
+  match_ = std::make_shared<const client_sim::MatchView>(info);
+  world_.set_match(match_);
+  match_json_ = build_match_json(info);
+}
+
+bool Gateway::on_snapshot(const protocol::Snapshot& snap, std::size_t wire_bytes, TimePoint now) {
+  if (state_ != State::joined || snap.client_id != reply_.client_id) return false;
+  if (!first_snapshot_) first_snapshot_ = now;
+  bytes_window_.emplace_back(now, wire_bytes);
+  if (world_.apply(snap) != client_sim::ClientWorld::ApplyResult::applied) {
+    expire_windows(now);
+    return false;
+  }
+  objects_in_view_ = snap.objects_in_view;
+  last_applied_sequence_ = std::max(last_applied_sequence_, snap.last_applied_sequence);
+  while (!pending_.empty() && pending_.front().sequence <= snap.last_applied_sequence) {
+    latency_window_.emplace_back(now, std::chrono::duration<double, std::milli>(now - pending_.front().sent).count());
+    pending_.pop_front();
+  }
+  expire_windows(now);
+  return true;
+}
+
+std::optional<protocol::Command> Gateway::make_command(TimePoint now, const std::optional<PageInput>& input,
+                                                       std::optional<TimePoint> input_received) {
+  if (state_ != State::joined) return std::nullopt;
+  const auto own = world_.own_pose();
+  if (!own) return std::nullopt;
+  const bool fresh = input && input_received && now - *input_received <= options_.input_timeout;
+  PageInput in;
+  if (fresh) {
+    in = *input;
+  } else {
+    in.facing_rad = static_cast<float>(own->yaw);  // stand still, keep facing where it faces
+  }
+  protocol::Command c;
+  c.client_id = reply_.client_id;
+  c.entity = reply_.entity;
+  c.sequence = next_sequence_++;
+  c.last_seen_tick = world_.newest_tick().value_or(0);
+  c.move_x = in.move_x;
+  c.move_y = in.move_y;
+  c.facing_rad = in.facing_rad;
+  c.actions = in.actions;
+  panned_ = in.panned();
+  c.camera_x = panned_ ? *in.camera_x : static_cast<float>(own->x);
+  c.camera_y = panned_ ? *in.camera_y : static_cast<float>(own->y);
+  c.camera_z = static_cast<float>(own->z);
+  camera_x_ = c.camera_x;
+  camera_y_ = c.camera_y;
+  ++commands_sent_;
+  pending_.push_back(Pending{c.sequence, now});
+  while (pending_.size() > options_.max_pending_commands) pending_.pop_front();
+  return c;
+}
+
+void Gateway::expire_windows(TimePoint now) const {
+  while (!latency_window_.empty() && now - latency_window_.front().first > kWindow) latency_window_.pop_front();
+  while (!bytes_window_.empty() && now - bytes_window_.front().first > kWindow) bytes_window_.pop_front();
+}
+
+std::optional<double> Gateway::latency_ms(TimePoint now) const {
+  expire_windows(now);
+  if (latency_window_.empty()) return std::nullopt;
+  std::vector<double> v;
+  v.reserve(latency_window_.size());
+  for (const auto& [t, ms] : latency_window_) v.push_back(ms);
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+double Gateway::kbit_per_s(TimePoint now) const {
+  expire_windows(now);
+  if (!first_snapshot_) return 0.0;
+  std::size_t bytes = 0;
+  for (const auto& [t, b] : bytes_window_) bytes += b;
+  // Over the last second, or since the first snapshot when that is shorter (but at least 0.2 s).
+  const double span = std::clamp(std::chrono::duration<double>(now - *first_snapshot_).count(), 0.2, 1.0);
+  return static_cast<double>(bytes) * 8.0 / 1000.0 / span;
+}
+
+std::string Gateway::frame_json(TimePoint now, const FrameExtras& extras) const {
+  std::vector<client_sim::ObjectState> objects;
+  objects.reserve(world_.object_count());
+  world_.for_each([&](const client_sim::ObjectState& o) { objects.push_back(o); });
+  std::sort(objects.begin(), objects.end(), [](const auto& a, const auto& b) { return a.id < b.id; });
+
+  fmt::memory_buffer b;
+  auto out = std::back_inserter(b);
+  fmt::format_to(out, R"({{"type":"frame","tick":{},"render_tick":{:.2f},"client_id":{},"entity":{},"faction":{},)",
+                 world_.newest_tick().value_or(0), world_.render_tick(), reply_.client_id, reply_.entity,
+                 static_cast<unsigned>(reply_.faction));
+  if (const auto self = world_.own_pose()) {
+    fmt::format_to(out, R"("self":{{"x":{:.3f},"y":{:.3f},"z":{:.3f},"yaw":{:.3f}}},)", self->x, self->y, self->z,
+                   self->yaw);
+  } else {
+    fmt::format_to(out, R"("self":null,)");
+  }
+  fmt::format_to(out, R"("objects":[)");
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    const auto& o = objects[i];
+    fmt::format_to(out, "{}{},{:.3f},{:.3f},{:.2f}", i ? "," : "", o.id, o.x, o.y, o.yaw);
+  }
+  const auto latency = latency_ms(now);
+  fmt::format_to(out, R"(],"in_view":{},"tracked":{},"latency_ms":{},"kbps":{:.1f},"sent_seq":{},"applied_seq":{},)",
+                 objects_in_view_, objects.size(), latency ? fmt::format("{:.1f}", *latency) : std::string("null"),
+                 kbit_per_s(now), next_sequence_ - 1, last_applied_sequence_);
+  fmt::format_to(out, R"("camera":{{"x":{:.3f},"y":{:.3f},"panned":{}}},"pages":{},"ended":{},"input_errors":{{)",
+                 camera_x_, camera_y_, panned_, extras.pages, match_ended());
+  std::uint64_t total = 0;
+  for (std::size_t i = 0; i < kInputErrorCount; ++i) {
+    fmt::format_to(out, R"({}"{}":{})", i ? "," : "", view::to_string(static_cast<InputError>(i)), extras.input_errors[i]);
+    total += extras.input_errors[i];
+  }
+  fmt::format_to(out, R"(}},"input_errors_total":{}}})", total);
+  return fmt::to_string(b);
+}
+
+}  // namespace throng::view

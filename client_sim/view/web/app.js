@@ -1,0 +1,360 @@
+// Throng view: draws the gateway's stream top-down and sends the keyboard/mouse as input.
+// Messages from the gateway (WebSocket /ws, JSON text): "match" (scenery, roster, bounds), "frame"
+// (poses at the snapshot rate, measured latency/bandwidth), "error" (our input was rejected).
+// World coordinates: metres, x right, y up; the canvas flips y.
+'use strict';
+(() => {
+  const FACTION_COLORS = ['#9aa0a6', '#e4572e', '#2e86de', '#f2c14e', '#4caf50', '#a05195', '#17becf', '#c49c94'];
+  const BACKGROUND = '#1b1f24';
+  const ACTION_SPRINT = 1, ACTION_BRACE = 2;  // protocol kAction* bits
+  const MOVE_KEYS = {
+    KeyW: [0, 1], ArrowUp: [0, 1], KeyS: [0, -1], ArrowDown: [0, -1],
+    KeyA: [-1, 0], ArrowLeft: [-1, 0], KeyD: [1, 0], ArrowRight: [1, 0],
+  };
+
+  const canvas = document.getElementById('view');
+  const ctx = canvas.getContext('2d');
+  const $ = (id) => document.getElementById(id);
+
+  const view = {
+    ws: null, connected: false, match: null, roster: new Map(), frame: null, frames: 0,
+    zoom: 16, center: { x: 0, y: 0 }, panned: false, showShapes: false,
+    keys: new Set(), facing: 0, mouse: null, aimWithMouse: false, drag: null,
+    drawn: 0, drawnObjects: 0, frameAt: 0, sent: 0, errors: 0, lastError: null,
+  };
+
+  // --- connection ---------------------------------------------------------------------------
+  function connect() {
+    const ws = new WebSocket(`ws://${location.host}/ws`);
+    view.ws = ws;
+    ws.onopen = () => { view.connected = true; };
+    ws.onclose = () => { view.connected = false; setTimeout(connect, 1000); };
+    ws.onmessage = (ev) => {
+      let m;
+      try { m = JSON.parse(ev.data); } catch { return; }
+      if (m.type === 'match') setMatch(m);
+      else if (m.type === 'frame') { view.frame = m; view.frames++; view.frameAt = performance.now(); }
+      else if (m.type === 'error') { view.errors++; view.lastError = m.reason; }
+    };
+  }
+
+  function setMatch(m) {
+    view.match = m;
+    view.roster.clear();
+    const r = m.roster;
+    for (let i = 0; i < r.id.length; i++) {
+      view.roster.set(r.id[i], {
+        radius: r.radius[i], halfHeight: r.half_height[i], faction: r.faction[i],
+        type: m.character_types[r.type[i]] || String(r.type[i]), archetype: m.archetypes[r.archetype[i]] || '?',
+      });
+    }
+  }
+
+  // --- input --------------------------------------------------------------------------------
+  function selfPose() {
+    const f = view.frame;
+    if (!f) return null;
+    const o = f.objects;
+    for (let i = 0; i < o.length; i += 4) if (o[i] === f.entity) return { x: o[i + 1], y: o[i + 2], yaw: o[i + 3] };
+    return f.self;
+  }
+
+  function currentInput() {
+    let mx = 0, my = 0;
+    for (const k of view.keys) if (MOVE_KEYS[k]) { mx += MOVE_KEYS[k][0]; my += MOVE_KEYS[k][1]; }
+    const len = Math.hypot(mx, my);
+    if (len > 1) { mx /= len; my /= len; }
+    const self = selfPose();
+    if (view.aimWithMouse && view.mouse && self) {
+      const w = toWorld(view.mouse.x, view.mouse.y);
+      if (Math.hypot(w.x - self.x, w.y - self.y) > 0.05) view.facing = Math.atan2(w.y - self.y, w.x - self.x);
+    } else if (len > 0) {
+      view.facing = Math.atan2(my, mx);
+    }
+    const shift = view.keys.has('ShiftLeft') || view.keys.has('ShiftRight');
+    const msg = {
+      type: 'input', move_x: mx, move_y: my, facing: view.facing,
+      actions: (shift ? ACTION_SPRINT : 0) | (view.keys.has('Space') ? ACTION_BRACE : 0),
+    };
+    if (view.panned) { msg.camera_x = view.center.x; msg.camera_y = view.center.y; }
+    return msg;
+  }
+
+  function sendInput() {
+    if (!view.connected || view.ws.readyState !== WebSocket.OPEN) return;
+    view.ws.send(JSON.stringify(currentInput()));
+    view.sent++;
+  }
+
+  addEventListener('keydown', (e) => {
+    if (e.ctrlKey || e.metaKey || e.altKey) return;
+    if (e.code === 'KeyC' && !e.repeat) { view.showShapes = !view.showShapes; $('shapes').checked = view.showShapes; }
+    if (e.code === 'KeyF') follow();
+    if (MOVE_KEYS[e.code] || e.code === 'Space') e.preventDefault();
+    if (!view.keys.has(e.code)) { view.keys.add(e.code); sendInput(); }
+  });
+  addEventListener('keyup', (e) => { view.keys.delete(e.code); sendInput(); });
+  addEventListener('blur', () => { view.keys.clear(); sendInput(); });  // no stuck keys
+  setInterval(sendInput, 50);  // the gateway stops the character when input goes quiet
+
+  $('shapes').addEventListener('change', (e) => { view.showShapes = e.target.checked; });
+  $('follow').addEventListener('click', follow);
+  function follow() { view.panned = false; }
+
+  // --- camera: follow, zoom, pan ------------------------------------------------------------
+  function toWorld(px, py) {
+    return { x: view.center.x + (px - canvas.clientWidth / 2) / view.zoom,
+             y: view.center.y - (py - canvas.clientHeight / 2) / view.zoom };
+  }
+
+  canvas.addEventListener('wheel', (e) => {
+    e.preventDefault();
+    const before = toWorld(e.offsetX, e.offsetY);
+    view.zoom = Math.min(200, Math.max(1, view.zoom * Math.pow(1.0015, -e.deltaY)));
+    if (view.panned) {  // keep the point under the cursor in place
+      const after = toWorld(e.offsetX, e.offsetY);
+      view.center.x += before.x - after.x;
+      view.center.y += before.y - after.y;
+    }
+  }, { passive: false });
+  canvas.addEventListener('mousedown', (e) => {
+    if (e.button === 0) view.drag = { x: e.offsetX, y: e.offsetY, moved: false };
+    canvas.focus();
+  });
+  addEventListener('mouseup', () => { view.drag = null; });
+  canvas.addEventListener('mousemove', (e) => {
+    view.mouse = { x: e.offsetX, y: e.offsetY };
+    view.aimWithMouse = true;
+    const d = view.drag;
+    if (d && (e.buttons & 1)) {
+      const dx = e.offsetX - d.x, dy = e.offsetY - d.y;
+      if (d.moved || Math.hypot(dx, dy) > 4) {
+        d.moved = true;
+        view.panned = true;
+        view.center.x -= dx / view.zoom;
+        view.center.y += dy / view.zoom;
+        d.x = e.offsetX; d.y = e.offsetY;
+      }
+    }
+  });
+  canvas.addEventListener('mouseleave', () => { view.mouse = null; view.aimWithMouse = false; });
+  canvas.addEventListener('dblclick', follow);
+
+  // --- drawing ------------------------------------------------------------------------------
+  function resize() {
+    const dpr = window.devicePixelRatio || 1;
+    const w = Math.round(canvas.clientWidth * dpr), h = Math.round(canvas.clientHeight * dpr);
+    if (canvas.width !== w || canvas.height !== h) { canvas.width = w; canvas.height = h; }
+    return dpr;
+  }
+
+  function worldTransform(dpr) {
+    const z = view.zoom * dpr;
+    ctx.setTransform(z, 0, 0, -z, canvas.width / 2 - view.center.x * z, canvas.height / 2 + view.center.y * z);
+  }
+
+  function drawScenery(px) {
+    for (const s of view.match.scenery) {
+      const soft = s.softness > 0;
+      ctx.fillStyle = soft ? 'rgba(76, 175, 80, 0.28)' : '#4a5058';
+      ctx.strokeStyle = soft ? '#81c784' : '#8a939d';
+      ctx.lineWidth = (view.showShapes ? 2 : 1) * px;
+      ctx.setLineDash(soft ? [4 * px, 3 * px] : []);
+      ctx.beginPath();
+      if (s.kind === 'box') {
+        ctx.save();
+        ctx.translate(s.cx, s.cy);
+        ctx.rotate(s.yaw);
+        ctx.rect(-s.hx, -s.hy, 2 * s.hx, 2 * s.hy);
+        ctx.restore();
+        ctx.fill();
+        ctx.stroke();
+      } else if (s.kind === 'cylinder') {
+        ctx.arc(s.cx, s.cy, s.radius, 0, 2 * Math.PI);
+        ctx.fill();
+        ctx.stroke();
+      } else if (s.kind === 'mesh') {  // outline of every triangle, seen from above
+        const v = s.vertices, t = s.triangles;
+        for (let i = 0; i + 2 < t.length; i += 3) {
+          ctx.moveTo(v[3 * t[i]], v[3 * t[i] + 1]);
+          ctx.lineTo(v[3 * t[i + 1]], v[3 * t[i + 1] + 1]);
+          ctx.lineTo(v[3 * t[i + 2]], v[3 * t[i + 2] + 1]);
+          ctx.closePath();
+        }
+        ctx.stroke();
+      }
+    }
+    ctx.setLineDash([]);
+  }
+
+  function drawCharacters(f, px) {
+    const o = f.objects;
+    const list = [];
+    for (let i = 0; i < o.length; i += 4) {
+      const info = view.roster.get(o[i]);
+      list.push({ id: o[i], x: o[i + 1], y: o[i + 2], yaw: o[i + 3], info, r: info ? info.radius : 0.35 });
+    }
+    list.sort((a, b) => a.r - b.r);  // mounts and giants over the foot soldiers
+    for (const c of list) {
+      const faction = c.info ? c.info.faction : 0;
+      ctx.beginPath();
+      ctx.arc(c.x, c.y, c.r, 0, 2 * Math.PI);
+      ctx.fillStyle = FACTION_COLORS[faction % FACTION_COLORS.length];
+      ctx.fill();
+      ctx.lineWidth = 1 * px;
+      ctx.strokeStyle = 'rgba(0, 0, 0, 0.55)';
+      ctx.stroke();
+      if (c.info && c.info.type === 'mount') {  // a ring marks mounts
+        ctx.beginPath();
+        ctx.arc(c.x, c.y, c.r * 0.6, 0, 2 * Math.PI);
+        ctx.stroke();
+      }
+      if (c.r * view.zoom > 4) {  // facing tick
+        ctx.beginPath();
+        ctx.moveTo(c.x, c.y);
+        ctx.lineTo(c.x + Math.cos(c.yaw) * c.r, c.y + Math.sin(c.yaw) * c.r);
+        ctx.stroke();
+      }
+      if (c.id === f.entity) {
+        ctx.beginPath();
+        ctx.arc(c.x, c.y, c.r + 3 * px, 0, 2 * Math.PI);
+        ctx.lineWidth = 3 * px;
+        ctx.strokeStyle = '#ffffff';
+        ctx.stroke();
+      } else if (c.info && c.info.type === 'player') {  // other people's characters
+        ctx.beginPath();
+        ctx.arc(c.x, c.y, c.r + 1.5 * px, 0, 2 * Math.PI);
+        ctx.lineWidth = 1.5 * px;
+        ctx.strokeStyle = '#e8eaed';
+        ctx.stroke();
+      }
+      if (view.showShapes) {
+        ctx.beginPath();
+        ctx.arc(c.x, c.y, c.r, 0, 2 * Math.PI);
+        ctx.lineWidth = 1 * px;
+        ctx.strokeStyle = '#ffeb3b';
+        ctx.stroke();
+      }
+    }
+    return list;
+  }
+
+  function hovered(list) {
+    if (!view.mouse) return null;
+    const w = toWorld(view.mouse.x, view.mouse.y);
+    let best = null, bestD = Infinity;
+    for (const c of list) {
+      const d = Math.hypot(c.x - w.x, c.y - w.y);
+      if (d <= c.r + 2 / view.zoom && d < bestD) { best = c; bestD = d; }
+    }
+    return best;
+  }
+
+  function showTooltip(c) {
+    const tip = $('tooltip');
+    if (!c) { tip.hidden = true; return; }
+    const i = c.info;
+    const you = c.id === view.frame.entity;  // the roster is from match start: it says npc for taken-over bodies
+    tip.textContent = `#${c.id}${you ? ' (you)' : ''}\n` +
+      (i ? `${i.archetype} · ${you ? 'player' : i.type} · faction ${i.faction}\nradius ${i.radius.toFixed(2)} m · half height ${i.halfHeight.toFixed(2)} m\n`
+         : 'not in the roster\n') +
+      `at (${c.x.toFixed(2)}, ${c.y.toFixed(2)}) facing ${(c.yaw * 180 / Math.PI).toFixed(0)}°\n` +
+      'push ratios: per pair, computed on the server only';
+    tip.style.left = `${view.mouse.x + 14}px`;
+    tip.style.top = `${view.mouse.y + 14}px`;
+    tip.hidden = false;
+  }
+
+  function draw() {
+    const dpr = resize();
+    const f = view.frame;
+    ctx.setTransform(1, 0, 0, 1, 0, 0);
+    ctx.fillStyle = BACKGROUND;
+    ctx.fillRect(0, 0, canvas.width, canvas.height);
+    const self = selfPose();
+    if (self && !view.panned) { view.center.x = self.x; view.center.y = self.y; }
+    $('follow').hidden = !view.panned;
+    if (!view.match) { requestAnimationFrame(draw); return; }
+    const px = 1 / view.zoom;  // one CSS pixel in metres
+    worldTransform(dpr);
+    const b = view.match.bounds;
+    if (b[2] > b[0] && b[3] > b[1]) {
+      ctx.lineWidth = 2 * px;
+      ctx.strokeStyle = '#3c4043';
+      ctx.strokeRect(b[0], b[1], b[2] - b[0], b[3] - b[1]);
+    }
+    drawScenery(px);
+    let list = [];
+    if (f) {
+      list = drawCharacters(f, px);
+      if (view.showShapes && view.match.interest_radius_m > 0) {  // what the server sends us
+        ctx.beginPath();
+        ctx.arc(f.camera.x, f.camera.y, view.match.interest_radius_m, 0, 2 * Math.PI);
+        ctx.setLineDash([8 * px, 6 * px]);
+        ctx.lineWidth = 1.5 * px;
+        ctx.strokeStyle = '#80deea';
+        ctx.stroke();
+        ctx.setLineDash([]);
+      }
+    }
+    view.drawn = list.length;
+    view.drawnObjects = f ? f.objects.length / 4 : 0;
+    ctx.setTransform(1, 0, 0, 1, 0, 0);
+    showTooltip(hovered(list));
+    requestAnimationFrame(draw);
+  }
+
+  // --- overlay ------------------------------------------------------------------------------
+  function updateOverlay() {
+    const f = view.frame;
+    const status = $('status');
+    const ended = (f && f.ended) || (view.match && view.match.ended);
+    const stale = f && performance.now() - view.frameAt > 2000;
+    let text = 'live';
+    if (!view.connected) text = 'gateway disconnected';
+    else if (ended) text = 'match ended';
+    else if (!f) text = 'waiting for the server…';
+    else if (stale) text = 'no snapshots from the server';
+    if (view.match && f) text += ` · ${view.match.scene}`;
+    status.textContent = text;
+    status.className = text.startsWith('live') ? '' : 'bad';
+    if (!f) return;
+    $('s-tick').textContent = f.tick;
+    $('s-latency').textContent = f.latency_ms === null ? '–' : `${f.latency_ms.toFixed(0)} ms`;
+    $('s-kbps').textContent = `${f.kbps.toFixed(1)} kbit/s`;
+    $('s-objects').textContent = `${view.drawn} drawn (server: ${f.in_view})`;
+    $('s-self').textContent = f.self
+      ? `#${f.entity} (${f.self.x.toFixed(1)}, ${f.self.y.toFixed(1)})${view.panned ? ' · panned' : ''}`
+      : '–';
+  }
+  setInterval(updateOverlay, 250);
+
+  // --- for tests (tests/view/view_e2e_test.cpp) ---------------------------------------------
+  window.throngView = {
+    stats() {
+      const f = view.frame;
+      return {
+        connected: view.connected, match: !!view.match, frames: view.frames,
+        drawn: view.drawn, objects: view.drawnObjects,
+        tick: f ? f.tick : null, entity: f ? f.entity : null, self: f ? f.self : null,
+        in_view: f ? f.in_view : null, latency_ms: f ? f.latency_ms : null, kbps: f ? f.kbps : null,
+        sent: view.sent, errors: view.errors, last_error: view.lastError, panned: view.panned,
+        camera: f ? f.camera : null, zoom: view.zoom, show_shapes: view.showShapes,
+        tooltip: $('tooltip').hidden ? null : $('tooltip').textContent,
+      };
+    },
+    // Canvas pixels painted in a faction colour (fills are drawn in exactly these colours).
+    factionPixels() {
+      const colors = FACTION_COLORS.map((c) => [1, 3, 5].map((k) => parseInt(c.substr(k, 2), 16)));
+      const d = ctx.getImageData(0, 0, canvas.width, canvas.height).data;
+      let n = 0;
+      for (let i = 0; i < d.length; i += 4) {
+        for (const c of colors) if (d[i] === c[0] && d[i + 1] === c[1] && d[i + 2] === c[2]) { n++; break; }
+      }
+      return n;
+    },
+  };
+
+  connect();
+  requestAnimationFrame(draw);
+})();

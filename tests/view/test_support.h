@@ -1,0 +1,108 @@
+#pragma once
+// Helpers for the throng-view tests: child processes with bounded waits (killed in the destructor),
+// temporary directories, polling with a deadline, and a small Boost.Beast WebSocket/HTTP client
+// whose every operation is bounded by a timeout (used for the gateway's /ws and for Chromium's
+// DevTools protocol).
+#include <sys/types.h>
+
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace throng::view::testing {
+
+using namespace std::chrono_literals;
+using Clock = std::chrono::steady_clock;
+
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+class ChildProcess {
+ public:
+  // Starts `program args...` with stdout/stderr redirected to files. own_group: the child leads a
+  // new process group and the destructor kills the whole group (Chromium's helper processes).
+  ChildProcess(const std::string& program, const std::vector<std::string>& args, const std::filesystem::path& out,
+               const std::filesystem::path& err, bool own_group = false);
+  ~ChildProcess();  // SIGKILL (the group when own_group) + reap
+  ChildProcess(const ChildProcess&) = delete;
+  ChildProcess& operator=(const ChildProcess&) = delete;
+
+  pid_t pid() const { return pid_; }
+  bool running();
+  void signal(int signo);
+  // Exit code (128 + signal when killed by one), or nullopt if still running after timeout.
+  std::optional<int> wait(std::chrono::milliseconds timeout);
+  void kill_now();
+
+ private:
+  pid_t pid_ = -1;
+  bool own_group_ = false;
+  std::optional<int> status_;
+};
+
+std::string read_file(const std::filesystem::path& p);
+
+// Polls pred every 50 ms until it is true or timeout passes; returns its last value.
+bool wait_until(const std::function<bool()>& pred, std::chrono::milliseconds timeout);
+
+// A WebSocket client; every call is bounded and throws std::runtime_error on failure or timeout
+// (read() returns nullopt on timeout instead).
+class WsClient {
+ public:
+  WsClient(const std::string& host, std::uint16_t port, const std::string& target,
+           std::chrono::milliseconds timeout = 10s, const std::string& origin = {});
+  ~WsClient();
+  WsClient(const WsClient&) = delete;
+  WsClient& operator=(const WsClient&) = delete;
+
+  void send(const std::string& message, bool binary = false, std::chrono::milliseconds timeout = 10s);
+  std::optional<std::string> read(std::chrono::milliseconds timeout);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+struct HttpResult {
+  int status = 0;
+  std::string body;
+  std::string content_type;
+};
+// GET (or another method) over one connection; throws std::runtime_error on failure or timeout.
+HttpResult http_request(const std::string& host, std::uint16_t port, const std::string& target,
+                        const std::string& method = "GET", std::chrono::milliseconds timeout = 10s);
+
+// Chrome DevTools Protocol over a WsClient (one page target).
+class Cdp {
+ public:
+  Cdp(const std::string& host, std::uint16_t port, const std::string& target);
+  nlohmann::json call(const std::string& method, const nlohmann::json& params = nlohmann::json::object(),
+                      std::chrono::milliseconds timeout = 15s);
+  // Runtime.evaluate with returnByValue; throws on a JavaScript exception.
+  nlohmann::json evaluate(const std::string& expression, std::chrono::milliseconds timeout = 15s);
+
+ private:
+  WsClient ws_;
+  int next_id_ = 1;
+};
+
+std::string base64_decode(const std::string& in);
+
+}  // namespace throng::view::testing

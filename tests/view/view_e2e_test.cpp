@@ -1,0 +1,231 @@
+// End to end: throng-server + throng-view + headless Chromium (Debian's /usr/bin/chromium, driven
+// over the DevTools protocol with a Beast WebSocket client). The page must draw every character it
+// reports in view, a held key must move the controlled entity on the server (the position comes
+// from the server's snapshots; the page does no prediction), and the test keeps a screenshot as
+// <build>/artifacts/view_e2e.png (THRONG_UPDATE_SCREENSHOT=1 also copies it to
+// docs/view_screenshot.png for the README).
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <regex>
+#include <thread>
+
+#include "test_support.h"
+
+namespace throng::view {
+namespace {
+
+using namespace testing;
+
+const std::string kServer = THRONG_BIN_DIR "/throng-server";
+const std::string kView = THRONG_BIN_DIR "/throng-view";
+const std::string kChromium = "/usr/bin/chromium";
+constexpr int kDomain = 203;
+
+// "view at http://127.0.0.1:PORT/" on throng-view's stdout.
+std::optional<std::uint16_t> view_port(const std::filesystem::path& out) {
+  static const std::regex re(R"(view at http://127\.0\.0\.1:(\d+)/)");
+  std::smatch m;
+  const std::string text = read_file(out);
+  if (!std::regex_search(text, m, re)) return std::nullopt;
+  return static_cast<std::uint16_t>(std::stoi(m[1]));
+}
+
+struct Chromium {
+  std::unique_ptr<ChildProcess> process;
+  std::uint16_t devtools_port = 0;
+};
+
+// Starts headless Chromium on about:blank and reads its DevTools port (bounded).
+Chromium start_chromium(const TempDir& dir) {
+  Chromium c;
+  std::vector<std::string> args{"--headless=new",
+                                "--remote-debugging-port=0",
+                                "--user-data-dir=" + (dir / "chrome-profile").string(),
+                                "--no-first-run",
+                                "--no-default-browser-check",
+                                "--disable-dev-shm-usage",
+                                "--mute-audio",
+                                "--window-size=1280,800"};
+  if (::geteuid() == 0) args.push_back("--no-sandbox");  // Chromium refuses to run as root with it
+  args.push_back("about:blank");
+  c.process = std::make_unique<ChildProcess>(kChromium, args, dir / "chrome.out", dir / "chrome.err", /*own_group=*/true);
+  const auto port_file = dir / "chrome-profile" / "DevToolsActivePort";
+  if (!wait_until([&] { return !read_file(port_file).empty() && read_file(port_file).find('\n') != std::string::npos; },
+                  30s))
+    return c;
+  c.devtools_port = static_cast<std::uint16_t>(std::stoi(read_file(port_file)));
+  return c;
+}
+
+std::string page_target(std::uint16_t devtools_port) {
+  const auto list = nlohmann::json::parse(http_request("127.0.0.1", devtools_port, "/json/list").body);
+  for (const auto& t : list) {
+    if (t.value("type", "") == "page") {
+      const std::string url = t.value("webSocketDebuggerUrl", "");
+      const auto slash = url.find('/', std::string("ws://").size());
+      if (slash != std::string::npos) return url.substr(slash);
+    }
+  }
+  return {};
+}
+
+TEST(ViewE2E, PageDrawsTheMatchAndKeysMoveTheEntityOnTheServer) {
+  ASSERT_TRUE(std::filesystem::exists(kChromium))
+      << kChromium << " is missing: the end-to-end test needs Debian's chromium package "
+      << "(bash deploy/install-deps.sh, or apt-get install -y chromium)";
+  TempDir dir;
+  ChildProcess server(kServer,
+                      {"--scene", "battle", "--npcs", "300", "--domain", std::to_string(kDomain), "--admin-port", "0",
+                       "--duration", "110", "--summary-json", (dir / "summary.json").string(), "--client-timeout",
+                       "60", "--log-level", "warn"},
+                      dir / "server.out", dir / "server.log");
+  ChildProcess view(kView, {"--domain", std::to_string(kDomain), "--port", "0", "--name", "view-e2e", "--quiet"},
+                    dir / "view.out", dir / "view.err");
+  std::optional<std::uint16_t> port;
+  ASSERT_TRUE(wait_until([&] { return (port = view_port(dir / "view.out")).has_value(); }, 20s))
+      << "throng-view printed no URL\n" << read_file(dir / "view.err");
+  ASSERT_TRUE(wait_until([&] { return read_file(dir / "view.err").find("joined as client") != std::string::npos; }, 30s))
+      << read_file(dir / "view.err") << read_file(dir / "server.log");
+
+  Chromium chrome = start_chromium(dir);
+  ASSERT_NE(chrome.devtools_port, 0) << "Chromium wrote no DevToolsActivePort within 30 s\n"
+                                     << read_file(dir / "chrome.err");
+  const std::string target = page_target(chrome.devtools_port);
+  ASSERT_FALSE(target.empty()) << "no page target in Chromium's /json/list";
+  Cdp cdp("127.0.0.1", chrome.devtools_port, target);
+  cdp.call("Page.enable");
+  const std::string url = "http://127.0.0.1:" + std::to_string(*port) + "/";
+  cdp.call("Page.navigate", {{"url", url}});
+
+  // Wait until the page has the match and draws frames with characters in them.
+  const std::string stats_js = "window.throngView ? window.throngView.stats() : null";
+  nlohmann::json stats;
+  const bool drawing = wait_until(
+      [&] {
+        stats = cdp.evaluate(stats_js);
+        return stats.is_object() && stats["match"] == true && stats["frames"].get<int>() > 30 &&
+               stats["drawn"].get<int>() > 0 && !stats["self"].is_null();
+      },
+      30s);
+  ASSERT_TRUE(drawing) << "the page never drew: " << stats.dump() << "\n" << read_file(dir / "view.err");
+
+  // Every character the page reports in view is drawn, and the canvas really shows them.
+  stats = cdp.evaluate(stats_js);
+  EXPECT_EQ(stats["drawn"], stats["objects"]) << stats.dump();
+  EXPECT_GT(stats["drawn"].get<int>(), 10) << stats.dump();
+  const int in_view = stats["in_view"].get<int>();
+  const int drawn = stats["drawn"].get<int>();
+  EXPECT_LE(drawn, in_view + in_view / 5 + 5) << "drawn far more than the server counts in view: " << stats.dump();
+  EXPECT_GE(drawn, in_view / 2) << "drawn far fewer than the server counts in view: " << stats.dump();
+  EXPECT_GT(cdp.evaluate("window.throngView.factionPixels()").get<int>(), 200) << "no faction-coloured pixels";
+  EXPECT_FALSE(stats["latency_ms"].is_null()) << stats.dump();
+  EXPECT_GT(stats["kbps"].get<double>(), 0.0) << stats.dump();
+
+  // Hold D for 1.5 s: the entity (as the server reports it in the snapshots) moves in +x.
+  const double x0 = stats["self"]["x"].get<double>();
+  const double y0 = stats["self"]["y"].get<double>();
+  const nlohmann::json key = {{"key", "d"}, {"code", "KeyD"}, {"windowsVirtualKeyCode", 68}, {"nativeVirtualKeyCode", 68}};
+  auto down = key;
+  down["type"] = "keyDown";
+  down["text"] = "d";
+  auto up = key;
+  up["type"] = "keyUp";
+  cdp.call("Input.dispatchKeyEvent", down);
+  std::this_thread::sleep_for(1500ms);
+  cdp.call("Input.dispatchKeyEvent", up);
+  std::this_thread::sleep_for(700ms);
+  stats = cdp.evaluate(stats_js);
+  const double dx = stats["self"]["x"].get<double>() - x0;
+  const double dy = stats["self"]["y"].get<double>() - y0;
+  EXPECT_GT(dx, 1.0) << "the entity did not move right on the server: dx " << dx << " dy " << dy << "\n"
+                     << stats.dump();
+  EXPECT_EQ(stats["errors"], 0) << "the gateway rejected the page's input: " << stats.dump();
+  std::printf("entity moved dx %.2f m, dy %.2f m while D was held for 1.5 s\n", dx, dy);
+
+  // Collision shapes on (C), the mouse over the own character (the camera centre): its tooltip.
+  auto key_c = nlohmann::json{{"key", "c"}, {"code", "KeyC"}, {"windowsVirtualKeyCode", 67}, {"nativeVirtualKeyCode", 67}};
+  key_c["type"] = "keyDown";
+  key_c["text"] = "c";
+  cdp.call("Input.dispatchKeyEvent", key_c);
+  key_c.erase("text");
+  key_c["type"] = "keyUp";
+  cdp.call("Input.dispatchKeyEvent", key_c);
+  const auto size = cdp.evaluate("[innerWidth, innerHeight]");
+  const double cx = size[0].get<double>() / 2, cy = size[1].get<double>() / 2;
+  cdp.call("Input.dispatchMouseEvent", {{"type", "mouseMoved"}, {"x", cx}, {"y", cy}});
+  EXPECT_TRUE(wait_until([&] { return !(stats = cdp.evaluate(stats_js))["tooltip"].is_null(); }, 5s)) << stats.dump();
+  EXPECT_EQ(stats["show_shapes"], true);
+  const std::string tooltip = stats["tooltip"].is_string() ? stats["tooltip"].get<std::string>() : "";
+  std::string you = "#";  // built in steps: GCC 12 warns (-Wrestrict) on "#" + to_string(...) + "..."
+  you += std::to_string(stats["entity"].get<std::uint32_t>());
+  you += " (you)";
+  EXPECT_NE(tooltip.find(you), std::string::npos)
+      << tooltip;
+  EXPECT_NE(tooltip.find("radius"), std::string::npos) << tooltip;
+  std::this_thread::sleep_for(300ms);
+
+  // The screenshot artifact.
+  const auto shot = cdp.call("Page.captureScreenshot", {{"format", "png"}});
+  const std::string png = base64_decode(shot.value("data", ""));
+  ASSERT_GT(png.size(), 1000u);
+  EXPECT_EQ(png.substr(1, 3), "PNG");
+  const auto artifacts = std::filesystem::path(THRONG_BIN_DIR) / ".." / "artifacts";
+  std::filesystem::create_directories(artifacts);
+  std::ofstream(artifacts / "view_e2e.png", std::ios::binary) << png;
+  if (const char* update = std::getenv("THRONG_UPDATE_SCREENSHOT"); update && std::string(update) == "1") {
+    const auto docs = std::filesystem::path(THRONG_SOURCE_DIR) / "docs";
+    std::filesystem::create_directories(docs);
+    std::filesystem::copy_file(artifacts / "view_e2e.png", docs / "view_screenshot.png",
+                               std::filesystem::copy_options::overwrite_existing);
+  }
+
+  // Drag pans the camera; the gateway then sends the server the panned camera (interest area).
+  cdp.call("Input.dispatchMouseEvent", {{"type", "mousePressed"}, {"x", cx}, {"y", cy}, {"button", "left"}, {"buttons", 1}, {"clickCount", 1}});
+  for (int i = 1; i <= 10; ++i)
+    cdp.call("Input.dispatchMouseEvent", {{"type", "mouseMoved"}, {"x", cx - 20 * i}, {"y", cy}, {"button", "left"}, {"buttons", 1}});
+  cdp.call("Input.dispatchMouseEvent", {{"type", "mouseReleased"}, {"x", cx - 200}, {"y", cy}, {"button", "left"}, {"buttons", 0}, {"clickCount", 1}});
+  // Dragging 200 px left moves the camera 200 px / zoom to the right of the character; the frames
+  // report the camera of the last command sent, so wait for the page's next inputs to get through.
+  const bool panned = wait_until(
+      [&] {
+        stats = cdp.evaluate(stats_js);
+        if (stats["panned"] != true || !stats["camera"].is_object() || stats["camera"]["panned"] != true) return false;
+        const double expect_dx = 200.0 / stats["zoom"].get<double>();
+        return std::abs(stats["camera"]["x"].get<double>() - stats["self"]["x"].get<double>() - expect_dx) < 1.0;
+      },
+      5s);
+  EXPECT_TRUE(panned) << "the panned camera did not reach the server's commands: " << stats.dump();
+
+  try {
+    cdp.call("Browser.close", nlohmann::json::object(), 5s);
+  } catch (const std::exception&) {
+  }
+  chrome.process->wait(5s);
+  chrome.process->kill_now();
+
+  // throng-view leaves on SIGTERM; the server's summary shows its commands were all accepted.
+  view.signal(SIGTERM);
+  const auto view_code = view.wait(15s);
+  ASSERT_TRUE(view_code) << "throng-view did not exit after SIGTERM";
+  EXPECT_EQ(*view_code, 0) << read_file(dir / "view.err");
+  server.signal(SIGTERM);
+  ASSERT_TRUE(server.wait(30s)) << "throng-server did not exit after SIGTERM";
+  const auto summary = nlohmann::json::parse(read_file(dir / "summary.json"), nullptr, false);
+  ASSERT_FALSE(summary.is_discarded()) << read_file(dir / "server.log");
+  const nlohmann::json* me = nullptr;
+  for (const auto& c : summary["clients"])
+    if (c.value("name", "") == "view-e2e") me = &c;
+  ASSERT_NE(me, nullptr) << summary.dump(2);
+  EXPECT_GT((*me)["commands_accepted"].get<std::uint64_t>(), 30u) << me->dump();
+  EXPECT_EQ((*me)["commands_rejected"].get<std::uint64_t>(), 0u) << me->dump();
+  EXPECT_EQ((*me)["departure"], "left") << me->dump();
+}
+
+}  // namespace
+}  // namespace throng::view
