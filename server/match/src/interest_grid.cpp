@@ -118,6 +118,7 @@ void InterestGrid::build(const BodyView& b, double cell_m) {
 
   if (pose_.size() < used) {  // grow only: the arrays are overwritten below, never cleared
     pose_.resize(used);
+    z_mm_.resize(used);
     x_.resize(used);
     y_.resize(used);
     z_.resize(used);
@@ -135,9 +136,11 @@ void InterestGrid::build(const BodyView& b, double cell_m) {
     x_[s] = b.x[i];
     y_[s] = b.y[i];
     z_[s] = b.z[i];
+    const auto zmm = static_cast<std::int32_t>(round_half_even(b.z[i] * 1000.0));
     pose_[s] = SlotPose{static_cast<std::int32_t>(round_half_even(b.x[i] * 1000.0)),
-                        static_cast<std::int32_t>(round_half_even(b.y[i] * 1000.0)),
-                        static_cast<std::int32_t>(round_half_even(b.z[i] * 1000.0)), b.id[i]};
+                        static_cast<std::int32_t>(round_half_even(b.y[i] * 1000.0)), std::clamp(zmm, -kMaxZQ, kMaxZQ),
+                        b.id[i]};
+    z_mm_[s] = zmm;
     yaw_q_[s] = quantize_yaw_fast(b.yaw[i]);
     present_[idx] = static_cast<std::int32_t>(s);
   }

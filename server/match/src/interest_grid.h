@@ -2,6 +2,7 @@
 // The per-tick spatial index behind SnapshotBuilder: the bodies copied into a uniform 2D grid in
 // row-major cell order (counting sort, stable in input order, so the layout depends only on the
 // input), plus a table object index -> slot. Private to throng::match.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -20,11 +21,17 @@ inline double round_half_even(double v) {
 // Coordinates beyond this (metres) are not indexed: their millimetres would not fit in int32.
 inline constexpr double kMaxCoordinateM = 1.0e6;
 
-// A body's pose rounded to millimetres (what the snapshot loop reads: one 16-byte load).
-struct SlotPose {
+// Height limit of the 1 mm quantization (int16 offsets): SlotPose::z is clamped to it.
+inline constexpr std::int32_t kMaxZQ = 32767;
+
+// A body's pose rounded to millimetres, laid out like the client-copy record the snapshot loop
+// compares it with (one 16-byte load each). z is clamped to +-kMaxZQ (what a client decodes at
+// 1 mm); the unclamped height is InterestGrid::z_mm().
+struct alignas(16) SlotPose {
   std::int32_t x, y, z;
   std::uint32_t id;
 };
+static_assert(sizeof(SlotPose) == 16);
 
 class InterestGrid {
  public:
@@ -43,9 +50,10 @@ class InterestGrid {
     return object_index < present_.size() ? present_[object_index] : -1;
   }
 
-  // Bodies in slot order: pose in mm (round(v * 1000)) with the id, the exact position in metres,
-  // yaw in 1/256 turn.
+  // Bodies in slot order: pose in mm (round(v * 1000), z clamped) with the id, the height in mm
+  // unclamped, the exact position in metres, yaw in 1/256 turn.
   const SlotPose* pose() const { return pose_.data(); }
+  const std::int32_t* z_mm() const { return z_mm_.data(); }
   const double* x() const { return x_.data(); }
   const double* y() const { return y_.data(); }
   const double* z() const { return z_.data(); }
@@ -58,13 +66,17 @@ class InterestGrid {
   double max_y() const { return max_y_; }
   double cell_m() const { return cell_; }
 
-  // Calls f(first_slot, end_slot) for runs of slots that hold every body within r of (cx, cy)
-  // (and some outside it: the caller tests the distance). One run per grid row. Cells are
-  // assigned on the exact positions: a caller testing rounded positions adds the rounding to r.
+  // Calls f(first, end, inner_first, inner_end) for runs of slots [first, end) that hold every
+  // body within r of (cx, cy) (and some outside it: the caller tests the distance). One run per
+  // grid row. [inner_first, inner_end) is the part of the run in cells that lie entirely within
+  // r_inner (no distance test needed there); inner_first == inner_end when there are none. Cells
+  // are assigned on the exact positions: a caller testing rounded positions adds the rounding to
+  // r and takes it off r_inner.
   template <class F>
-  void for_each_run(double cx, double cy, double r, F&& f) const {
+  void for_each_run(double cx, double cy, double r, double r_inner, F&& f) const {
     if (count_ == 0) return;
     if (cx + r < min_x_ || cx - r > max_x_ || cy + r < min_y_ || cy - r > max_y_) return;
+    constexpr double kSlack = 1e-6;  // positions near a cell boundary may round either way
     const int iy0 = cell_y(cy - r);
     const int iy1 = cell_y(cy + r);
     for (int iy = iy0; iy <= iy1; ++iy) {
@@ -73,7 +85,7 @@ class InterestGrid {
       const double row_y0 = min_y_ + iy * cell_;
       const double row_y1 = row_y0 + cell_;
       double dy = cy < row_y0 ? row_y0 - cy : (cy > row_y1 ? cy - row_y1 : 0.0);
-      dy = dy > 1e-6 ? dy - 1e-6 : 0.0;
+      dy = dy > kSlack ? dy - kSlack : 0.0;
       if (dy > r) continue;
       const double w = std::sqrt(r * r - dy * dy);
       const int ix0 = cell_x(cx - w);
@@ -81,7 +93,23 @@ class InterestGrid {
       const std::size_t row = static_cast<std::size_t>(iy) * static_cast<std::size_t>(nx_);
       const std::uint32_t a = cell_start_[row + static_cast<std::size_t>(ix0)];
       const std::uint32_t b = cell_start_[row + static_cast<std::size_t>(ix1) + 1];
-      if (a < b) f(a, b);
+      if (a >= b) continue;
+      // Cells entirely inside r_inner: the row's largest |y - cy| and the x extent at it.
+      std::uint32_t ia = a, ib = a;
+      const double dy_far = std::max(std::fabs(row_y0 - cy), std::fabs(row_y1 - cy)) + kSlack;
+      if (r_inner > 0.0 && dy_far < r_inner) {
+        const double wi = std::sqrt(r_inner * r_inner - dy_far * dy_far) - kSlack;
+        // First cell starting at or after cx - wi, last cell ending at or before cx + wi.
+        const double f0 = std::ceil((cx - wi - min_x_) * inv_cell_);
+        const double f1 = std::floor((cx + wi - min_x_) * inv_cell_) - 1.0;
+        const int jx0 = std::max(ix0, f0 > 0.0 ? (f0 < nx_ ? static_cast<int>(f0) : nx_) : 0);
+        const int jx1 = std::min(ix1, f1 < nx_ ? (f1 >= -1.0 ? static_cast<int>(f1) : -1) : nx_ - 1);
+        if (jx0 <= jx1) {
+          ia = cell_start_[row + static_cast<std::size_t>(jx0)];
+          ib = cell_start_[row + static_cast<std::size_t>(jx1) + 1];
+        }
+      }
+      f(a, b, ia, ib);
     }
   }
 
@@ -96,6 +124,7 @@ class InterestGrid {
 
   std::uint32_t count_ = 0;  // bodies indexed this tick (the slot arrays may be longer)
   std::vector<SlotPose> pose_;
+  std::vector<std::int32_t> z_mm_;
   std::vector<double> x_, y_, z_;
   std::vector<std::uint8_t> yaw_q_;
   std::vector<std::int32_t> present_;

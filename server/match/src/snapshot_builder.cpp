@@ -1,34 +1,50 @@
 // SnapshotBuilder: per-client interest management over the per-tick InterestGrid.
 //
 // Per client and object index the builder keeps one 32-byte record (the client's copy of the
-// object: id, quantized position in mm, yaw byte, tick last sent, priority accumulator, the build
-// it was last a candidate in). The record is deliberately one struct rather than parallel arrays:
-// build() visits the candidates in grid order, i.e. at scattered object indices, and reads or
-// writes every field of each one, so one cache line per candidate instead of seven; with many
-// clients these lines are not in cache, and the loop prefetches them a few bodies ahead. The
-// per-tick body data (grid slots), candidate lists and keys are structure-of-arrays.
+// object: quantized position in mm and id, laid out like the grid's SlotPose so that one vector
+// compare says "same object, same position"; then the build stamp it was last a candidate in,
+// the tick it was last sent, the yaw byte). The record is one struct rather than parallel arrays:
+// build() visits the candidates in grid order, i.e. at scattered object indices, and reads every
+// field of each one, so one cache line per candidate; with many clients these lines are not in
+// cache, and the loop prefetches them a few candidates ahead.
 //
-// build() in order:
-//  1. candidates: grid rows overlapping the circle, distance test on whole millimetres. For each:
-//     compare the pose the client would decode with its copy, skip if unchanged and younger than
-//     keepalive, else grow the accumulator and emit a 64-bit key (priority float bits << 32 | ~id:
-//     larger key = send first; equal priority = lower id first). Unknown candidates are keyed
-//     after the loop (1e9 * w_near: nearest first).
-//  2. removals: known objects that were not candidates are checked against the index table (same
-//     full id = same object) and radius * exit_hysteresis; gone ones join the pending removals.
-//  3. removals that fit the budget are listed (oldest first), then the poses: nth_element picks
-//     the largest keys that fit, the selection is sorted by id and the exact wire size (with id
-//     escapes) is checked, dropping the lowest priority until it fits.
-//  4. protocol::encode_poses, state update, view-error statistics.
+// build() in order. Everything it writes is the client's own state or the caller's Scratch, so
+// builds for distinct clients can run on several threads at once. The phases are separate loops
+// over packed arrays, branch-free where the branch would be data-dependent (a mispredicted branch
+// per candidate cost more than the arithmetic):
+//  1a. candidate slots: grid rows overlapping the circle; cells entirely inside it are taken
+//      whole, the others tested on whole millimetres.
+//  1b. compare each candidate with the client's copy: unknown ones are set aside, unchanged ones
+//      younger than keepalive skipped (their error still counts in the statistics), the rest
+//      keyed as integer differences (KeyIn).
+//  1c. priorities (module header: current error x near weight + age) and 64-bit keys
+//      (priority float bits << 32 | ~id: larger key = send first, equal priority = lower id
+//      first), four at a time with SSE2.
+//  1d. unknown candidates: 1e9 x near weight (nearest first).
+//  2.  known objects that are not candidates are checked against the index table (same full id
+//      = same object) and radius * exit_hysteresis; gone ones join the pending removals.
+//  3.  removals that fit the budget are listed (oldest first); the poses: the k-th largest key
+//      (radix select) is the threshold, one pass picks the keys at or above it and gathers the
+//      error statistics of the rest, the selection is radix-sorted by id and the exact wire size
+//      (with id escapes) is checked, dropping the lowest priority until it fits.
+//  4.  the pose arrays are written directly (what protocol::encode_poses writes for the decoded
+//      poses: offsets (copy - origin) / unit, z / unit, the yaw byte; tests/match check it) and
+//      the client's copies updated; a pending removal of an id whose pose is sent again is
+//      dropped (the client applies removals before poses, so this snapshot is still right).
 #include "throng/match/snapshot_builder.h"
 
 #include <algorithm>
 #include <bit>
+#include <cstddef>
 #include <cmath>
 #include <functional>
 #include <limits>
 #include <stdexcept>
 #include <type_traits>
+
+#if defined(__SSE2__) || defined(_M_X64)
+#include <emmintrin.h>
+#endif
 
 #include <fmt/format.h>
 
@@ -43,7 +59,7 @@ namespace {
 using detail::round_half_even;
 
 constexpr double kRadiusUnitOneM = 32.0;        // radius up to which positions go at 1 mm
-constexpr double kAgePriorityPerTick = 0.01;    // per tick since last sent, added every tick
+constexpr double kAgePriorityPerTick = 0.01;    // m per tick since last sent
 constexpr double kNearWeight = 3.0;             // w_near = 1 + 3 * (1 - d / radius)
 constexpr float kNearWeightF = 3.0f;
 constexpr float kUnknownPriorityF = 1.0e9f;     // never-sent objects (x w_near): missing on the client
@@ -52,8 +68,12 @@ constexpr double kRadPerYawStep = 6.28318530717958647692 / 256.0;
 constexpr auto kYawMPerStepF = static_cast<float>(kRadPerYawStep * kYawLeverM);
 constexpr auto kAgePerTickF = static_cast<float>(kAgePriorityPerTick);
 constexpr double kCellPerRadius = 0.25;         // grid cell = radius / 4 (7.5 m at 30 m)
-constexpr std::int32_t kMaxQ = 32767;
+constexpr std::int32_t kMaxQ = detail::kMaxZQ;  // int16 range of a quantized offset
 constexpr std::uint32_t kPrefetchAhead = 16;
+// kth_largest buckets: key >> 53 = the priority's float bits >> 21 (sign, exponent, 2 mantissa
+// bits). Priorities are >= 0, so the sign bit is 0 and 1024 buckets are used.
+constexpr int kHistShift = 53;
+constexpr std::uint32_t kHistBuckets = 1u << (64 - kHistShift);
 
 // XCDR1 size of a Snapshot with these sequence lengths: mirrors protocol::snapshot_wire_bytes
 // (checked against it in the constructor) so the budget can be planned without building samples.
@@ -106,16 +126,10 @@ void check_wire_mirror() {
       }
 }
 
-// Id codes the encoder writes for these ascending ids (1, or 3 for an escape).
-std::size_t id_code_count(const std::vector<std::uint32_t>& ids) {
-  std::size_t codes = 0;
-  std::uint32_t previous = 0;
-  for (const std::uint32_t id : ids) {
-    const std::uint32_t delta = id - previous;
-    codes += (delta >= 1 && delta <= 0xFFFF) ? 1 : 3;
-    previous = id;
-  }
-  return codes;
+// Id codes the encoder writes for one id after `previous` (1, or 3 for an escape).
+inline std::size_t id_codes_for(std::uint32_t previous, std::uint32_t id) {
+  const std::uint32_t delta = id - previous;
+  return (delta >= 1 && delta <= 0xFFFF) ? 1 : 3;
 }
 
 // Smallest unit (mm) so that +-half_m around an origin snapped to the unit fits in int16.
@@ -124,18 +138,52 @@ std::uint16_t unit_for_half_extent(double half_m) {
   return static_cast<std::uint16_t>(std::clamp(u, 1.0, 65535.0));
 }
 
-std::uint64_t priority_key(float priority, std::uint32_t id) {
+inline std::uint64_t priority_key(float priority, std::uint32_t id) {
   return (static_cast<std::uint64_t>(std::bit_cast<std::uint32_t>(priority)) << 32) | static_cast<std::uint32_t>(~id);
 }
+inline std::uint32_t key_id(std::uint64_t key) { return ~static_cast<std::uint32_t>(key); }
 
-struct ObjectState {              // the client's copy of one object index (32 bytes)
-  std::uint32_t id = 0;           // ObjectId value the client knows here; 0 = none
+// sqrt of a value known to be >= 0: without the errno branch std::sqrt carries under the
+// project's flags (same IEEE result).
+inline float sqrt_nonneg(float v) {
+#if defined(__SSE2__) || defined(_M_X64)
+  return _mm_cvtss_f32(_mm_sqrt_ss(_mm_set_ss(v)));
+#else
+  return std::sqrt(v);
+#endif
+}
+
+// |(ex, ey, ez)| mm -> m.
+inline float error_m(std::int32_t ex, std::int32_t ey, std::int32_t ez) {
+  const auto fx = static_cast<float>(ex), fy = static_cast<float>(ey), fz = static_cast<float>(ez);
+  return sqrt_nonneg(fx * fx + fy * fy + fz * fz) * 0.001f;
+}
+
+// The client's copy of one object index. The first 16 bytes mirror detail::SlotPose, so the
+// compare loop checks "same object, same quantized position" with one vector compare.
+struct alignas(32) ObjectState {
   std::int32_t x = 0, y = 0, z = 0;  // position as the client decoded it, mm
-  std::uint32_t sent_tick = 0;    // low 32 bits of the tick it was last sent
-  float accum = 0;                // priority accumulator
+  std::uint32_t id = 0;           // ObjectId value the client knows here; 0 = none
   std::uint32_t seen = 0;         // build stamp when it was last a candidate
+  std::uint32_t sent_tick = 0;    // low 32 bits of the tick it was last sent
   std::uint8_t yaw = 0;
+  std::uint8_t pad_[7] = {};      // 32 bytes: a record never straddles a cache line
 };
+static_assert(sizeof(ObjectState) == 32);
+static_assert(offsetof(ObjectState, x) == offsetof(detail::SlotPose, x) &&
+              offsetof(ObjectState, z) == offsetof(detail::SlotPose, z) &&
+              offsetof(ObjectState, id) == offsetof(detail::SlotPose, id));
+
+// A keyed candidate as the compare loop leaves it (two 16-byte halves, read four at a time).
+struct alignas(16) KeyIn {
+  std::int32_t ex, ey, ez;  // truth - client copy, mm
+  std::uint32_t id;
+  float d2;                 // squared distance to the camera, mm^2
+  std::int32_t yaw;         // yaw error, steps (0..128)
+  std::int32_t age;         // ticks since last sent (capped)
+  std::uint32_t slot;
+};
+static_assert(sizeof(KeyIn) == 32);
 
 struct KnownEntry {
   std::uint32_t index, id;
@@ -161,6 +209,128 @@ struct Client {
 
 }  // namespace
 
+struct SnapshotBuilder::Scratch::Impl {
+  std::vector<std::uint32_t> cslot;    // candidate slots, grid order
+  std::vector<std::uint32_t> cobj;     // their object indices (+ kPrefetchAhead zeros)
+  std::vector<std::uint32_t> unknown;  // candidate slots the client does not know
+  // Keyed candidates (changed or keepalive-due, then the unknown ones): what the priority is
+  // computed from, then the error (m, -1 = unknown to the client) and the key.
+  std::vector<KeyIn> kin;
+  std::vector<float> kerr;
+  std::vector<std::uint64_t> kkey;
+  std::vector<std::uint64_t> kth, kth2;  // kth_largest's buffers (also sort_by_id's)
+  std::vector<std::uint32_t> hist;     // kth_largest's histogram
+  std::vector<std::uint64_t> sel;      // selected: id << 32 | position in the keyed arrays
+  BuildStats stats;
+
+  void reserve(std::size_t n) {
+    if (cslot.size() >= n) return;
+    for (auto* v : {&cslot, &unknown}) v->resize(n);
+    cobj.resize(n + kPrefetchAhead);
+    kin.resize(n);
+    kerr.resize(n);
+    kkey.resize(n);
+    kth.resize(n);
+    kth2.resize(n);
+    sel.resize(n);
+    hist.resize(kHistBuckets);
+  }
+};
+
+namespace {
+
+// The k-th largest (1-based, 0 < k < n) of n distinct keys. Radix select, most significant digit
+// first: count the digit over the keys still in the running, keep only those in the bucket that
+// holds the k-th, next digit. The first digit is the priority's top 11 bits (sign, exponent and
+// 2 mantissa bits of a non-negative float, which order like the float), then 8 bits at a time;
+// a handful of keys left is finished with nth_element. O(n) and branch-free on the large
+// passes (a comparison sort mispredicts on every other comparison here).
+// hist: kHistBuckets counters; a, b: room for n keys each.
+std::uint64_t kth_largest(const std::uint64_t* keys, std::uint32_t n, std::size_t k, std::uint32_t* hist,
+                          std::uint64_t* a, std::uint64_t* b) {
+  const std::uint64_t* cur = keys;
+  std::size_t m = n, r = k - 1;  // r: 0-based rank of the wanted key among cur, from the top
+  int shift = kHistShift, bits = 64 - kHistShift;
+  std::uint64_t* buf = a;
+  for (;;) {
+    if (m <= 16) {
+      if (cur == keys) {
+        std::copy(cur, cur + m, buf);
+        cur = buf;
+      }
+      std::uint64_t* v = const_cast<std::uint64_t*>(cur);
+      std::nth_element(v, v + r, v + m, std::greater<std::uint64_t>());
+      return v[r];
+    }
+    const std::uint32_t nb = 1u << bits;
+    const std::uint64_t mask = nb - 1;
+    std::fill(hist, hist + nb, 0u);
+    std::uint32_t hi = 0;
+    for (std::size_t i = 0; i < m; ++i) {
+      const auto d = static_cast<std::uint32_t>((cur[i] >> shift) & mask);
+      ++hist[d];
+      hi = std::max(hi, d);
+    }
+    std::uint32_t d = hi;
+    std::size_t above = 0;
+    while (above + hist[d] <= r) above += hist[d--];
+    r -= above;
+    std::size_t mm = 0;
+    for (std::size_t i = 0; i < m; ++i) {
+      buf[mm] = cur[i];
+      mm += static_cast<std::uint32_t>((cur[i] >> shift) & mask) == d ? 1u : 0u;
+    }
+    cur = buf;
+    m = mm;
+    buf = buf == a ? b : a;
+    if (shift == 0) return cur[r];  // every bit decided: one key left (keys are distinct)
+    bits = std::min(8, shift);
+    shift -= bits;
+  }
+}
+
+// Sorts v (id << 32 | position) by id: LSD radix over the bits in which the ids differ (usually
+// just the low bits of the object index: two passes of at most 7 bits), in as few passes of at
+// most 8 bits as cover them. Stable and branch-free. hist: 1024 counters, tmp: room for n.
+void sort_by_id(std::uint64_t* v, std::size_t n, std::uint64_t* tmp, std::uint32_t* hist) {
+  if (n < 2) return;
+  std::uint32_t differ = 0;
+  const auto id0 = static_cast<std::uint32_t>(v[0] >> 32);
+  for (std::size_t i = 1; i < n; ++i) differ |= static_cast<std::uint32_t>(v[i] >> 32) ^ id0;
+  const int width = std::bit_width(differ);
+  if (width == 0) return;
+  const int passes = (width + 7) / 8;
+  const int digit = (width + passes - 1) / passes;
+  const std::uint32_t buckets = 1u << digit, mask = buckets - 1;
+  std::fill(hist, hist + passes * buckets, 0u);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto id = static_cast<std::uint32_t>(v[i] >> 32);
+    for (int p = 0; p < passes; ++p) ++hist[p * buckets + ((id >> (p * digit)) & mask)];
+  }
+  std::uint64_t* src = v;
+  std::uint64_t* dst = tmp;
+  for (int p = 0; p < passes; ++p) {
+    std::uint32_t* h = hist + p * buckets;
+    const int shift = 32 + p * digit;
+    std::uint32_t sum = 0;
+    for (std::uint32_t j = 0; j < buckets; ++j) {
+      const std::uint32_t c = h[j];
+      h[j] = sum;
+      sum += c;
+    }
+    for (std::size_t i = 0; i < n; ++i) dst[h[(src[i] >> shift) & mask]++] = src[i];
+    std::swap(src, dst);
+  }
+  if (src != v) std::copy(src, src + n, v);
+}
+
+}  // namespace
+
+SnapshotBuilder::Scratch::Scratch() : impl_(std::make_unique<Impl>()) {}
+SnapshotBuilder::Scratch::~Scratch() = default;
+SnapshotBuilder::Scratch::Scratch(Scratch&&) noexcept = default;
+SnapshotBuilder::Scratch& SnapshotBuilder::Scratch::operator=(Scratch&&) noexcept = default;
+
 struct SnapshotBuilder::Impl {
   detail::InterestGrid grid;
   std::uint64_t tick = 0;
@@ -169,16 +339,9 @@ struct SnapshotBuilder::Impl {
   std::vector<std::unique_ptr<Client>> clients;  // sorted by client_id
   std::uint16_t radius_unit = 1;
   std::uint16_t world_unit = 1;  // radius 0: unit for the current world extent (with hysteresis)
-  // Scratch, reused every build.
-  std::vector<std::uint32_t> cand;  // candidate slots
-  std::vector<float> err;           // by slot: client copy error of candidates, -1 = unknown
-  std::vector<std::uint64_t> keys;
-  std::vector<std::uint32_t> unknown;  // candidate slots the client does not know
-  std::vector<std::uint32_t> sel;   // selected ids, ascending
-  std::vector<protocol::Pose> poses;
-  BuildStats stats;
+  Scratch scratch;               // for the build() overload without one
 
-  Client* find(std::uint32_t client_id) {
+  Client* find(std::uint32_t client_id) const {
     auto it = std::lower_bound(clients.begin(), clients.end(), client_id,
                                [](const std::unique_ptr<Client>& c, std::uint32_t v) { return c->client_id < v; });
     return it != clients.end() && (*it)->client_id == client_id ? it->get() : nullptr;
@@ -232,13 +395,7 @@ void SnapshotBuilder::index(const BodyView& bodies, std::uint64_t tick) {
     m.capacity = m.grid.index_bound();
     for (auto& c : m.clients) c->reserve(m.capacity);
   }
-  const std::size_t n = m.grid.size();
-  if (m.err.size() < n) m.err.resize(n);
-  if (m.cand.size() < n) m.cand.resize(n);
-  if (m.keys.size() < n) m.keys.resize(n);
-  if (m.unknown.size() < n) m.unknown.resize(n);
-  m.sel.reserve(n);
-  m.poses.reserve(n);
+  m.scratch.impl_->reserve(m.grid.size());
 
   if (config_.radius_m == 0.0) {
     // Grow the unit at once; shrink it only when the world got 25% smaller than the unit allows,
@@ -257,7 +414,12 @@ void SnapshotBuilder::index(const BodyView& bodies, std::uint64_t tick) {
 
 const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_x, double camera_y,
                                          protocol::Snapshot& out) {
-  Impl& m = *impl_;
+  return build(client_id, camera_x, camera_y, out, impl_->scratch);
+}
+
+const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_x, double camera_y,
+                                         protocol::Snapshot& out, Scratch& scratch) {
+  const Impl& m = *impl_;
   Client* cp = m.find(client_id);
   if (!cp) throw std::invalid_argument(fmt::format("SnapshotBuilder::build: unknown client {}", client_id));
   if (!(std::fabs(camera_x) <= detail::kMaxCoordinateM))
@@ -270,7 +432,9 @@ const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_
 
   Client& c = *cp;
   const detail::InterestGrid& g = m.grid;
-  BuildStats& st = m.stats;
+  Scratch::Impl& sc = *scratch.impl_;
+  sc.reserve(g.size());
+  BuildStats& st = sc.stats;
   st = BuildStats{};
 
   if (++c.stamp == 0) {  // wrapped after 2^32 builds: forget stale stamps
@@ -278,6 +442,7 @@ const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_
     c.stamp = 1;
   }
   const std::uint32_t stamp = c.stamp;
+
   const auto tick32 = static_cast<std::uint32_t>(m.tick);
   const bool whole = config_.radius_m == 0.0;
   const std::uint16_t unit = whole ? m.world_unit : m.radius_unit;
@@ -306,7 +471,8 @@ const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_
     const double q = std::floor(v * v);
     return q >= 9.0e18 ? std::numeric_limits<std::int64_t>::max() : static_cast<std::int64_t>(q);
   };
-  const std::int64_t r2_mm = square_mm(r_mm), rh2_mm = square_mm(rh_mm);
+  const std::int64_t r2_mm = whole ? std::numeric_limits<std::int64_t>::max() : square_mm(r_mm);
+  const std::int64_t rh2_mm = square_mm(rh_mm);
   // w_near = 1 + 3 * (1 - d / R) = 4 - d * (3 / R); R = radius, or the world's half diagonal.
   const double near_r_mm =
       whole ? 1000.0 * std::max(1.0, 0.5 * std::hypot(g.max_x() - g.min_x(), g.max_y() - g.min_y())) : r_mm;
@@ -316,9 +482,9 @@ const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_
   const double* gx = g.x();
   const double* gy = g.y();
   const double* gz = g.z();
+  const std::int32_t* gzmm = g.z_mm();
   const std::uint8_t* gyaw = g.yaw_q();
   ObjectState* obj = c.obj.data();
-  float* err = m.err.data();
 
   // The client's decoded position (mm) of slot s at this origin/unit; false if it does not fit.
   // At 1 mm this is the body's position rounded to a mm (a candidate within radius <= 32 m of an
@@ -327,7 +493,7 @@ const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_
     if (unit == 1) {
       qx = gp[s].x;
       qy = gp[s].y;
-      qz = std::clamp(gp[s].z, -kMaxQ, kMaxQ);
+      qz = gp[s].z;  // clamped in the index
       const std::int64_t dx = static_cast<std::int64_t>(qx) - ox, dy = static_cast<std::int64_t>(qy) - oy;
       return dx >= -kMaxQ && dx <= kMaxQ && dy >= -kMaxQ && dy <= kMaxQ;
     }
@@ -339,103 +505,216 @@ const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_
     qz = static_cast<std::int32_t>(fz) * unit;
     return std::fabs(fx) <= kMaxQ && std::fabs(fy) <= kMaxQ;
   };
-  // |truth - client copy| in metres, on the truth rounded to a mm (integer differences: cheap,
-  // and exactly 0 for an unchanged object at 1 mm).
-  auto copy_error = [&](std::uint32_t s, const ObjectState& o) {
-    const auto ex = static_cast<float>(gp[s].x - o.x), ey = static_cast<float>(gp[s].y - o.y),
-               ez = static_cast<float>(gp[s].z - o.z);
-    return std::sqrt(ex * ex + ey * ey + ez * ez) * 0.001f;
+  auto near_weight = [&](std::int64_t d2) {
+    return std::max(1.0f, (1.0f + kNearWeightF) - sqrt_nonneg(static_cast<float>(d2)) * near_scale);
   };
 
-  // 1. Candidates. The hot loop: ~1,000 per client per tick.
-  std::uint32_t* cand = m.cand.data();
-  std::uint64_t* keys = m.keys.data();
-  std::uint32_t* unknown = m.unknown.data();
-  std::uint32_t n_cand = 0, n_keys = 0, skipped = 0, n_unknown = 0;
-  // Everything the loop reads lives in locals of the loop body (no references into this frame:
-  // the stores to o/err/cand/keys would otherwise force the compiler to reload them every body).
-  auto visit = [&](auto unit_one, std::uint32_t first, std::uint32_t end) {
+  // Error statistics of known in-view objects that are not sent (those that are sent are added
+  // when they are written, with their quantization error).
+  double err_sum = 0.0;
+  float err_max = 0.0f;
+  std::uint32_t err_count = 0;
+
+  // 1a. Candidate slots (and their object indices): grid runs, distance test on whole mm except
+  // in cells entirely inside. Branchless: every slot is written, the cursor advances only for
+  // those inside.
+  std::uint32_t* const cslot = sc.cslot.data();
+  std::uint32_t* const cobj = sc.cobj.data();
+  std::uint32_t n_cand = 0;
+  {
+    const std::int64_t l_cx = cam_mx, l_cy = cam_my, l_r2 = r2_mm;
+    auto all = [&](std::uint32_t first, std::uint32_t end) {
+      std::uint32_t n = n_cand;
+      for (std::uint32_t s = first; s < end; ++s, ++n) {
+        cslot[n] = s;
+        cobj[n] = (gp[s].id & ObjectId::kIndexMask) - 1u;
+      }
+      n_cand = n;
+    };
+    auto tested = [&](std::uint32_t first, std::uint32_t end) {
+      std::uint32_t n = n_cand;
+      for (std::uint32_t s = first; s < end; ++s) {
+        const detail::SlotPose p = gp[s];
+        const std::int64_t dx = p.x - l_cx, dy = p.y - l_cy;
+        cslot[n] = s;
+        cobj[n] = (p.id & ObjectId::kIndexMask) - 1u;
+        n += (dx * dx + dy * dy <= l_r2) ? 1u : 0u;
+      }
+      n_cand = n;
+    };
+    if (whole) {
+      all(0, g.size());
+    } else {
+      // The grid assigns cells on exact positions; 2 mm more radius covers the mm rounding of
+      // the bodies and the camera, and the inner cells are taken 2 mm smaller.
+      g.for_each_run(camera_x, camera_y, r + 0.002, r - 0.002,
+                     [&](std::uint32_t a, std::uint32_t b, std::uint32_t ia, std::uint32_t ib) {
+                       if (ia >= ib) {
+                         tested(a, b);
+                         return;
+                       }
+                       tested(a, ia);
+                       all(ia, ib);
+                       tested(ib, b);
+                     });
+    }
+    // The prefetch below reads kPrefetchAhead entries past the end: harmless index 0.
+    std::fill(cobj + n_cand, cobj + n_cand + kPrefetchAhead, 0u);
+  }
+
+  // 1b. Compare each candidate with the client's copy (records at scattered indices: the hot
+  // part, prefetched a few candidates ahead). Changed (or keepalive-due) ones go to the keyed
+  // arrays as integer differences; unknown ones wait for 1d.
+  KeyIn* const kin = sc.kin.data();
+  std::uint32_t* const unknown = sc.unknown.data();
+  std::uint32_t n_keys = 0, skipped = 0, n_unknown = 0;
+  auto compare = [&](auto unit_one) {
     constexpr bool kUnitOne = decltype(unit_one)::value;
     const detail::SlotPose* const l_pose = gp;
     const std::uint8_t* const l_yaw = gyaw;
     ObjectState* const l_obj = obj;
-    float* const l_err = err;
-    std::uint32_t* const l_cand = cand;
-    std::uint64_t* const l_keys = keys;
+    const std::uint32_t* const l_cslot = cslot;
+    const std::uint32_t* const l_cobj = cobj;
+    KeyIn* const l_kin = kin;
     const std::int64_t l_cx = cam_mx, l_cy = cam_my;
-    const std::int64_t l_r2 = whole ? std::numeric_limits<std::int64_t>::max() : r2_mm;
-    const std::uint32_t l_stamp = stamp, l_tick = tick32, l_keepalive = keepalive;
-    const float l_near = near_scale;
-    std::uint32_t* const l_unknown = unknown;
-    std::uint32_t nc = n_cand, nk = n_keys, sk = skipped, nu = n_unknown;
-    for (std::uint32_t s = first; s < end; ++s) {
-      // The client's records are at scattered indices and, with many clients, not in cache
-      // (measured with 64 clients: 96 -> 71 us per build).
-      if (s + kPrefetchAhead < end)
-        __builtin_prefetch(&l_obj[(l_pose[s + kPrefetchAhead].id & ObjectId::kIndexMask) - 1u], 1, 1);
-      const detail::SlotPose p = l_pose[s];
-      const std::int64_t dx = p.x - l_cx, dy = p.y - l_cy;
-      const std::int64_t d2 = dx * dx + dy * dy;
-      if (d2 > l_r2) continue;
-      l_cand[nc++] = s;
-      ObjectState& o = l_obj[(p.id & ObjectId::kIndexMask) - 1u];
+    const std::uint32_t l_stamp = stamp, l_tick = tick32, l_keepalive = keepalive, l_n = n_cand;
+    std::uint32_t nk = 0, sk = 0, nu = 0, ec = 0;
+    double esum = 0.0;
+    float emax = 0.0f;
+    for (std::uint32_t i = 0; i < l_n; ++i) {
+      __builtin_prefetch(&l_obj[l_cobj[i + kPrefetchAhead]], 1, 1);
+      const std::uint32_t s = l_cslot[i];
+      const detail::SlotPose& p = l_pose[s];
+      ObjectState& o = l_obj[l_cobj[i]];
       o.seen = l_stamp;
-      if (o.id != p.id) [[unlikely]] {  // unknown to the client: handled after the loop
-        l_err[s] = -1.0f;
-        l_unknown[nu++] = s;
-        continue;
-      }
       const std::uint32_t age = l_tick - o.sent_tick;
-      const std::uint8_t yaw = l_yaw[s];
-      std::int32_t ex = p.x - o.x, ey = p.y - o.y, ez = p.z - o.z;  // truth (mm) - client copy
+      const std::uint8_t dyaw = static_cast<std::uint8_t>(l_yaw[s] - o.yaw);
+      std::int32_t ex, ey, ez;  // truth (mm) - client copy
       bool unchanged, fits = true;
+      KeyIn& k = l_kin[nk];  // written in place; kept only if the candidate is keyed
       if constexpr (kUnitOne) {
-        unchanged = (ex | ey | (std::clamp(p.z, -kMaxQ, kMaxQ) - o.z)) == 0 && yaw == o.yaw;
-      } else {
-        std::int32_t qx, qy, qz;
-        fits = quantize(s, qx, qy, qz);
-        unchanged = qx == o.x && qy == o.y && qz == o.z && yaw == o.yaw;
-      }
-      if (kUnitOne && unchanged) {  // x and y of the copy are the truth; z too unless clamped
-        l_err[s] = static_cast<float>(std::abs(ez)) * 0.001f;
-        if (age < l_keepalive) {
-          ++sk;
+#if defined(__SSE2__) || defined(_M_X64)
+        // (x, y, z, id) of the truth minus the copy: all zero = same object, same position.
+        const __m128i d = _mm_sub_epi32(_mm_load_si128(reinterpret_cast<const __m128i*>(&p)),
+                                        _mm_load_si128(reinterpret_cast<const __m128i*>(&o)));
+        const int same = _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(d, _mm_setzero_si128())));
+        if (!(same & 8)) [[unlikely]] {  // another id: unknown to the client
+          unknown[nu++] = s;
           continue;
         }
+        unchanged = (same | (dyaw == 0 ? 16 : 0)) == 31;
+        _mm_store_si128(reinterpret_cast<__m128i*>(&k), d);
+        ex = k.ex;
+        ey = k.ey;
+        ez = k.ez;
+#else
+        if (o.id != p.id) [[unlikely]] {
+          unknown[nu++] = s;
+          continue;
+        }
+        ex = p.x - o.x;
+        ey = p.y - o.y;
+        ez = p.z - o.z;
+        unchanged = (ex | ey | ez | dyaw) == 0;
+#endif
+        // A height beyond the 1 mm range: the clamped copy is compared, the error is measured
+        // on the real height.
+        if (p.z == kMaxQ || p.z == -kMaxQ) [[unlikely]] ez = gzmm[s] - o.z;
+      } else {
+        if (o.id != p.id) [[unlikely]] {
+          unknown[nu++] = s;
+          continue;
+        }
+        ex = p.x - o.x;
+        ey = p.y - o.y;
+        ez = gzmm[s] - o.z;
+        std::int32_t qx, qy, qz;
+        fits = quantize(s, qx, qy, qz);
+        unchanged = qx == o.x && qy == o.y && qz == o.z && dyaw == 0;
       }
-      const auto fx = static_cast<float>(ex), fy = static_cast<float>(ey), fz = static_cast<float>(ez);
-      const float e = std::sqrt(fx * fx + fy * fy + fz * fz) * 0.001f;
-      l_err[s] = e;
-      if (!kUnitOne && unchanged && age < l_keepalive) {
-        ++sk;
+      if ((unchanged && age < l_keepalive) || !fits) [[unlikely]] {
+        // Not sent: only its error counts (0 for an unchanged object at 1 mm, unless its
+        // height is clamped). !fits: coarse unit only, cannot be sent from this origin.
+        sk += unchanged ? 1u : 0u;
+        ++ec;
+        if (kUnitOne && unchanged && ez == 0) continue;
+        const float e = error_m(ex, ey, ez);
+        esum += e;
+        emax = std::max(emax, e);
         continue;
       }
-      if (!fits) continue;
-      const float w = std::max(1.0f, 1.0f + kNearWeightF - std::sqrt(static_cast<float>(d2)) * l_near);
-      const auto yaw_steps = static_cast<float>(std::abs(static_cast<int>(static_cast<std::int8_t>(yaw - o.yaw))));
-      o.accum += (e + yaw_steps * kYawMPerStepF) * w + kAgePerTickF * static_cast<float>(age);
-      l_keys[nk++] = priority_key(o.accum, p.id);
+      const std::int64_t dx = p.x - l_cx, dy = p.y - l_cy;
+      k.ex = ex;
+      k.ey = ey;
+      k.ez = ez;
+      k.id = p.id;
+      k.d2 = static_cast<float>(dx * dx + dy * dy);
+      k.yaw = dyaw < 128 ? dyaw : 256 - dyaw;  // steps along the shorter way round
+      k.age = static_cast<std::int32_t>(std::min<std::uint32_t>(age, 1u << 30));
+      k.slot = s;
+      ++nk;
     }
-    n_cand = nc;
     n_keys = nk;
     skipped = sk;
     n_unknown = nu;
+    err_count += ec;
+    err_sum += esum;
+    err_max = std::max(err_max, emax);
   };
-  // The grid assigns cells on exact positions; 2 mm more radius covers the mm rounding of the
-  // bodies and the camera.
-  if (whole) {
-    if (unit == 1)
-      visit(std::true_type{}, 0, g.size());
-    else
-      visit(std::false_type{}, 0, g.size());
-  } else if (unit == 1) {
-    g.for_each_run(camera_x, camera_y, r + 0.002,
-                   [&](std::uint32_t a, std::uint32_t b) { visit(std::true_type{}, a, b); });
-  } else {
-    g.for_each_run(camera_x, camera_y, r + 0.002,
-                   [&](std::uint32_t a, std::uint32_t b) { visit(std::false_type{}, a, b); });
+  if (unit == 1)
+    compare(std::true_type{});
+  else
+    compare(std::false_type{});
+
+  // 1c. Priorities and keys of the changed candidates, four at a time (the same IEEE operations
+  // in the same order as the scalar tail, so the keys do not depend on the batching).
+  std::uint64_t* const kkey = sc.kkey.data();
+  float* const kerr = sc.kerr.data();
+  {
+    const float l_near = near_scale;
+    std::uint32_t i = 0;
+#if defined(__SSE2__) || defined(_M_X64)
+    const __m128 v_near = _mm_set1_ps(l_near), v_mm = _mm_set1_ps(0.001f), v_one = _mm_set1_ps(1.0f),
+                 v_w0 = _mm_set1_ps(1.0f + kNearWeightF), v_yaw = _mm_set1_ps(kYawMPerStepF),
+                 v_age = _mm_set1_ps(kAgePerTickF);
+    const __m128i v_ones = _mm_set1_epi32(-1);
+    for (; i + 4 <= n_keys; i += 4) {
+      // Transpose four records into (ex, ey, ez, id) and (d2, yaw, age, slot) lanes.
+      const auto* rec = reinterpret_cast<const __m128*>(kin + i);
+      __m128 a0 = _mm_load_ps(reinterpret_cast<const float*>(rec + 0)), a1 = _mm_load_ps(reinterpret_cast<const float*>(rec + 2)),
+             a2 = _mm_load_ps(reinterpret_cast<const float*>(rec + 4)), a3 = _mm_load_ps(reinterpret_cast<const float*>(rec + 6));
+      __m128 b0 = _mm_load_ps(reinterpret_cast<const float*>(rec + 1)), b1 = _mm_load_ps(reinterpret_cast<const float*>(rec + 3)),
+             b2 = _mm_load_ps(reinterpret_cast<const float*>(rec + 5)), b3 = _mm_load_ps(reinterpret_cast<const float*>(rec + 7));
+      _MM_TRANSPOSE4_PS(a0, a1, a2, a3);  // a0 = ex, a1 = ey, a2 = ez, a3 = id (as bits)
+      _MM_TRANSPOSE4_PS(b0, b1, b2, b3);  // b0 = d2, b1 = yaw, b2 = age
+      const __m128 fx = _mm_cvtepi32_ps(_mm_castps_si128(a0));
+      const __m128 fy = _mm_cvtepi32_ps(_mm_castps_si128(a1));
+      const __m128 fz = _mm_cvtepi32_ps(_mm_castps_si128(a2));
+      const __m128 e2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(fx, fx), _mm_mul_ps(fy, fy)), _mm_mul_ps(fz, fz));
+      const __m128 e = _mm_mul_ps(_mm_sqrt_ps(e2), v_mm);
+      const __m128 w = _mm_max_ps(v_one, _mm_sub_ps(v_w0, _mm_mul_ps(_mm_sqrt_ps(b0), v_near)));
+      const __m128 fyaw = _mm_cvtepi32_ps(_mm_castps_si128(b1));
+      const __m128 fage = _mm_cvtepi32_ps(_mm_castps_si128(b2));
+      const __m128 pri = _mm_add_ps(_mm_mul_ps(_mm_add_ps(e, _mm_mul_ps(fyaw, v_yaw)), w), _mm_mul_ps(v_age, fage));
+      _mm_storeu_ps(kerr + i, e);
+      const __m128i ids = _mm_xor_si128(_mm_castps_si128(a3), v_ones);
+      const __m128i bits = _mm_castps_si128(pri);
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(kkey + i), _mm_unpacklo_epi32(ids, bits));
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(kkey + i + 2), _mm_unpackhi_epi32(ids, bits));
+    }
+#endif
+    for (; i < n_keys; ++i) {
+      const KeyIn& k = kin[i];
+      const float e = error_m(k.ex, k.ey, k.ez);
+      const float w = std::max(1.0f, (1.0f + kNearWeightF) - sqrt_nonneg(k.d2) * l_near);
+      const float priority =
+          (e + static_cast<float>(k.yaw) * kYawMPerStepF) * w + kAgePerTickF * static_cast<float>(k.age);
+      kerr[i] = e;
+      kkey[i] = priority_key(priority, k.id);
+    }
   }
-  // Candidates the client does not know (never sent, removed, or a new object at a recycled
+
+  // 1d. Candidates the client does not know (never sent, removed, or a new object at a recycled
   // index): the highest priorities, nearest first.
   for (std::uint32_t i = 0; i < n_unknown; ++i) {
     const std::uint32_t s = unknown[i];
@@ -447,8 +726,10 @@ const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_
     std::int32_t qx, qy, qz;
     if (!quantize(s, qx, qy, qz)) continue;
     const std::int64_t dx = p.x - cam_mx, dy = p.y - cam_my;
-    const float w = std::max(1.0f, 1.0f + kNearWeightF - std::sqrt(static_cast<float>(dx * dx + dy * dy)) * near_scale);
-    keys[n_keys++] = priority_key(kUnknownPriorityF * w, p.id);
+    kin[n_keys].slot = s;
+    kerr[n_keys] = -1.0f;
+    kkey[n_keys] = priority_key(kUnknownPriorityF * near_weight(dx * dx + dy * dy), p.id);
+    ++n_keys;
   }
   st.in_view = n_cand;
   st.skipped_unchanged = skipped;
@@ -456,11 +737,18 @@ const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_
   // 2. Known objects that are gone or beyond the hysteresis radius.
   {
     std::size_t w = 0;
-    for (const KnownEntry e : c.known) {
+    KnownEntry* const known = c.known.data();
+    const std::size_t n_known = c.known.size();
+    for (std::size_t i = 0; i < n_known; ++i) {
+      const KnownEntry e = known[i];
       ObjectState& o = obj[e.index];
+      if (o.id == e.id && o.seen == stamp) [[likely]] {  // a candidate: in view
+        known[w++] = e;
+        continue;
+      }
       if (o.id != e.id) continue;  // replaced at this index (removal already queued)
-      bool keep = o.seen == stamp;
-      if (!keep) {
+      bool keep = false;
+      {
         const std::int32_t s = g.slot_of(e.index);
         if (s >= 0 && gp[s].id == e.id) {
           const std::int64_t dx = gp[s].x - cam_mx, dy = gp[s].y - cam_my;
@@ -468,7 +756,7 @@ const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_
         }
       }
       if (keep) {
-        c.known[w++] = e;
+        known[w++] = e;
         continue;
       }
       if (repeat > 0) c.pending.push_back({e.id, repeat});
@@ -476,12 +764,6 @@ const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_
     }
     c.known.resize(w);
   }
-  // An object pending removal that is a candidate again is about to be re-sent: stop removing it.
-  std::erase_if(c.pending, [&](const PendingRemoval& p) {
-    const std::uint32_t idx = ObjectId{p.id}.index();
-    const std::int32_t s = g.slot_of(idx);
-    return s >= 0 && gp[s].id == p.id && obj[idx].seen == stamp;
-  });
 
   // 3. Removals that fit, oldest first; each is listed in `repeat` snapshots in total.
   std::size_t n_removed = c.pending.size();
@@ -499,67 +781,143 @@ const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_
       while (pose_cap > 0 && wire_bytes(pose_cap, pose_cap, n_removed) > budget) --pose_cap;
     }
   }
-  out.removed.clear();
+  out.removed.resize(n_removed);
   for (std::size_t i = 0; i < n_removed; ++i) {
-    out.removed.push_back(c.pending[i].id);
+    out.removed[i] = c.pending[i].id;
     --c.pending[i].left;
   }
   std::erase_if(c.pending, [](const PendingRemoval& p) { return p.left == 0; });
 
-  // Poses: the largest keys that fit, exact size with id escapes.
-  std::size_t k = pose_cap;
-  if (k < n_keys) std::nth_element(keys, keys + k, keys + n_keys, std::greater<std::uint64_t>());
-  m.sel.clear();
-  for (std::size_t i = 0; i < k; ++i) m.sel.push_back(~static_cast<std::uint32_t>(keys[i]));
-  std::sort(m.sel.begin(), m.sel.end());
+  // Poses: the largest keys that fit. Keys are unique (ids are), so "key >= the k-th largest"
+  // selects exactly k; the others' errors go to the statistics. The selection is kept as
+  // (id << 32 | position in the keyed arrays), sorted by id.
+  std::uint64_t* const sel = sc.sel.data();
+  const std::size_t k = std::min(pose_cap, static_cast<std::size_t>(n_keys));
+  std::size_t n_sel = 0;
+  {
+    std::uint64_t threshold = 0;
+    if (k < n_keys) threshold = k == 0 ? std::numeric_limits<std::uint64_t>::max() : kth_largest(kkey, n_keys, k, sc.hist.data(), sc.kth.data(), sc.kth2.data());
+    // Branch-free: which keys pass is data-dependent. Not sent and known: the error counts.
+    // (k == 0: the threshold is above every key, a NaN priority being impossible.)
+    std::uint32_t count = 0;
+    float sum = 0.0f, emax = 0.0f;
+    for (std::uint32_t i = 0; i < n_keys; ++i) {
+      const auto take = static_cast<std::uint32_t>(kkey[i] >= threshold);
+      sel[n_sel] = static_cast<std::uint64_t>(key_id(kkey[i])) << 32 | i;
+      n_sel += take;
+      // Error of a known object that is not sent, else -1 (as bits: all-ones mask selects -1).
+      const std::uint32_t bits = (std::bit_cast<std::uint32_t>(kerr[i]) & (take - 1u)) |
+                                 (std::bit_cast<std::uint32_t>(-1.0f) & (0u - take));
+      const float e = std::bit_cast<float>(bits);
+      count += static_cast<std::uint32_t>(e >= 0.0f);
+      sum += std::max(e, 0.0f);
+      emax = std::max(emax, e);
+    }
+    err_count += count;
+    err_sum += sum;
+    err_max = std::max(err_max, emax);
+  }
+  sort_by_id(sel, n_sel, sc.kth.data(), sc.hist.data());
+  auto sel_id = [&](std::size_t j) { return static_cast<std::uint32_t>(sel[j] >> 32); };
+  auto sel_pos = [&](std::size_t j) { return static_cast<std::uint32_t>(sel[j]); };
+  auto count_codes = [&] {
+    std::size_t codes = 0;
+    std::uint32_t previous = 0;
+    for (std::size_t j = 0; j < n_sel; ++j) {
+      codes += id_codes_for(previous, sel_id(j));
+      previous = sel_id(j);
+    }
+    return codes;
+  };
+  std::size_t codes = count_codes();
   if (budget > 0) {
-    while (k > 0 && wire_bytes(id_code_count(m.sel), k, n_removed) > budget) {
-      std::uint64_t* lowest = std::min_element(keys, keys + k);
-      const std::uint32_t id = ~static_cast<std::uint32_t>(*lowest);
-      std::swap(*lowest, keys[k - 1]);
-      --k;
-      m.sel.erase(std::lower_bound(m.sel.begin(), m.sel.end(), id));
+    while (n_sel > 0 && wire_bytes(codes, n_sel, n_removed) > budget) {
+      // Drop the lowest priority (rare: only when id escapes did not fit), then recount.
+      std::size_t lowest = 0;
+      for (std::size_t j = 1; j < n_sel; ++j)
+        if (kkey[sel_pos(j)] < kkey[sel_pos(lowest)]) lowest = j;
+      const float e = kerr[sel_pos(lowest)];
+      if (e >= 0.0f) {
+        ++err_count;
+        err_sum += e;
+        err_max = std::max(err_max, e);
+      }
+      std::copy(sel + lowest + 1, sel + n_sel, sel + lowest);
+      --n_sel;
+      codes = count_codes();
     }
   }
 
-  // 4. Encode and update the client's copies.
-  m.poses.clear();
-  for (const std::uint32_t id : m.sel) {
-    const std::uint32_t idx = ObjectId{id}.index();
-    const auto s = static_cast<std::uint32_t>(g.slot_of(idx));
-    ObjectState& o = obj[idx];
-    std::int32_t qx, qy, qz;
-    quantize(s, qx, qy, qz);
-    if (o.id != id) c.known.push_back({idx, id});
-    o.id = id;
-    o.x = qx;
-    o.y = qy;
-    o.z = qz;
-    o.yaw = gyaw[s];
-    o.sent_tick = tick32;
-    o.accum = 0.0f;
-    err[s] = static_cast<float>(copy_error(s, o));
-    m.poses.push_back(protocol::Pose{id, qx / 1000.0, qy / 1000.0, qz / 1000.0, protocol::dequantize_yaw(o.yaw)});
+  // 4. Write the pose arrays and update the client's copies.
+  out.origin_x_mm = ox;
+  out.origin_y_mm = oy;
+  out.unit_mm = unit;
+  out.id_codes.resize(codes);
+  out.x.resize(n_sel);
+  out.y.resize(n_sel);
+  out.z.resize(n_sel);
+  out.yaw.resize(n_sel);
+  {
+    std::uint16_t* oc = out.id_codes.data();
+    std::int16_t* px = out.x.data();
+    std::int16_t* py = out.y.data();
+    std::int16_t* pz = out.z.data();
+    std::uint8_t* pyaw = out.yaw.data();
+    std::uint32_t previous = 0;
+    std::size_t ci = 0;
+    for (std::size_t i = 0; i < n_sel; ++i) {
+      const std::uint32_t id = sel_id(i);
+      const std::uint32_t s = kin[sel_pos(i)].slot;
+      const std::uint32_t idx = (id & ObjectId::kIndexMask) - 1u;
+      ObjectState& o = obj[idx];
+      std::int32_t qx, qy, qz;
+      if (!quantize(s, qx, qy, qz))  // selected candidates fit: checked when they were keyed
+        throw std::logic_error("SnapshotBuilder::build: a selected pose did not fit the quantization range");
+      if (o.id != id) c.known.push_back({idx, id});
+      o.id = id;
+      o.x = qx;
+      o.y = qy;
+      o.z = qz;
+      o.yaw = gyaw[s];
+      o.sent_tick = tick32;
+      const std::uint32_t delta = id - previous;
+      if (delta >= 1 && delta <= 0xFFFF) {
+        oc[ci++] = static_cast<std::uint16_t>(delta);
+      } else {
+        oc[ci++] = 0;
+        oc[ci++] = static_cast<std::uint16_t>(id >> 16);
+        oc[ci++] = static_cast<std::uint16_t>(id & 0xFFFF);
+      }
+      previous = id;
+      // What protocol::encode_poses writes for the decoded copy: the offsets are exact multiples
+      // of the unit (the origin is one), z too.
+      px[i] = static_cast<std::int16_t>((qx - ox) / unit);
+      py[i] = static_cast<std::int16_t>((qy - oy) / unit);
+      pz[i] = static_cast<std::int16_t>(qz / unit);
+      pyaw[i] = o.yaw;
+      // Error right after the update: the quantization (and a clamped height).
+      const detail::SlotPose p = gp[s];
+      const float e = error_m(p.x - qx, p.y - qy, gzmm[s] - qz);
+      ++err_count;
+      err_sum += e;
+      err_max = std::max(err_max, e);
+    }
   }
-  if (!protocol::encode_poses(m.poses, ox, oy, unit, out))
-    throw std::logic_error("SnapshotBuilder::build: a selected pose did not fit the quantization range");
+  // A removal still pending for an id whose pose was just sent again would delete it on the
+  // client later: drop it (if it was listed in this snapshot, the client applies the removal
+  // before the poses).
+  if (!c.pending.empty() && n_sel > 0) {
+    std::erase_if(c.pending, [&](const PendingRemoval& p) {
+      const std::uint64_t* it = std::lower_bound(sel, sel + n_sel, static_cast<std::uint64_t>(p.id) << 32);
+      return it != sel + n_sel && static_cast<std::uint32_t>(*it >> 32) == p.id;
+    });
+  }
   if (budget > 0 && protocol::snapshot_wire_bytes(out) > budget)
     throw std::logic_error("SnapshotBuilder::build: snapshot exceeds the byte budget (wire size model out of date)");
   out.objects_in_view = st.in_view;
-  st.sent = static_cast<std::uint32_t>(k);
-
-  double sum = 0.0, max = 0.0;
-  std::uint32_t count = 0;
-  for (std::uint32_t i = 0; i < n_cand; ++i) {
-    const std::uint32_t s = cand[i];
-    const float e = err[s];
-    if (e < 0.0f) continue;
-    sum += e;
-    max = std::max(max, static_cast<double>(e));
-    ++count;
-  }
-  st.view_error_max_m = max;
-  st.view_error_mean_m = count ? sum / count : 0.0;
+  st.sent = static_cast<std::uint32_t>(n_sel);
+  st.view_error_max_m = err_max;
+  st.view_error_mean_m = err_count ? err_sum / err_count : 0.0;
   return st;
 }
 

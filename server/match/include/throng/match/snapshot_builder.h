@@ -2,13 +2,13 @@
 // Interest management and snapshot content: which objects each client is sent this tick.
 //
 // Per client: the objects within InterestConfig::radius_m of its camera are candidates. Each
-// candidate carries a priority accumulator; every tick it grows by how wrong the client's copy of
-// the object is (distance moved since the client was last sent it, weighted up near the camera)
-// plus a small age term, so stale far objects are eventually refreshed too. Objects whose
-// quantized pose did not change since they were last sent are skipped unless keepalive_ticks
-// passed. The highest accumulators are sent until the byte budget is spent; their accumulators
-// reset. Objects the client knows that leave radius * exit_hysteresis (or are destroyed) are
-// listed in `removed` for removed_repeat snapshots. Ties break by id: fully deterministic.
+// candidate the client knows gets a priority every tick: how wrong the client's copy of it is
+// right now (distance between the truth and the copy, weighted up near the camera) plus a small
+// age term, so stale far objects are eventually refreshed too. Objects whose quantized pose did
+// not change since they were last sent are skipped unless keepalive_ticks passed. The highest
+// priorities are sent until the byte budget is spent. Objects the client knows that leave
+// radius * exit_hysteresis (or are destroyed) are listed in `removed` for removed_repeat
+// snapshots. Ties break by id: fully deterministic.
 //
 // Details (snapshot_builder.cpp says more):
 //  - index() copies the bodies into a uniform grid (cells of radius/4, about 8 m; counting sort, so
@@ -22,16 +22,34 @@
 //    range is clamped; bodies with a non-finite or > 1000 km coordinate are not indexed.
 //  - In view = within radius_m of the camera, both rounded to a millimetre (integer distances).
 //  - "Changed" means the quantized pose the client would decode (position in mm, yaw byte) differs
-//    from the one it was last sent. Priority increment per tick for a changed object:
-//      (|truth - client copy| + 0.5 m * yaw error) * (1 + 3 * (1 - d / radius)) + 0.01 * age_ticks
-//    never-sent objects get 1e9 * (1 + 3 * (1 - d / radius)) (missing on the client). Errors
-//    (also BuildStats::view_error_*) are measured against the truth rounded to a millimetre.
+//    from the one it was last sent. Priority of a changed (or keepalive-due) known object:
+//      (|truth - client copy| + 0.5 m * yaw error) * (1 + 3 * (1 - d / radius)) + 0.01 m * age_ticks
+//    recomputed every tick from the current error (not summed over ticks: an object that comes
+//    back into view with a stale copy ranks by how stale it is at once, and a large error always
+//    outranks a small one at the same distance). Never-sent objects get 1e9 * (1 + 3 * (1 - d /
+//    radius)) (missing on the client). Errors (also BuildStats::view_error_*) are measured
+//    against the truth rounded to a millimetre.
+//  - What it bounds (tests/match/snapshot_view_error_test.cpp): largest weighted error first
+//    refreshes each of N objects in view about every N / B ticks (B poses per snapshot); an
+//    object far out (w = 1) may wait until its error is 4x the near ones' (w = 4), so in-view
+//    errors stay below about 4 * v * dt * (N / B + 1): 2.2 m for 1,000 objects at <= 1.5 m/s and
+//    ~100 poses (the scenes there reach 0.5-0.8 m, also with a crowd marching with the camera).
+//  - Heights: a copy's z is the truth clamped to the int16 range of the unit (+-32.767 m at
+//    1 mm); the comparison ("changed") uses the clamped value, the error the real height.
 //  - Budget: budget_bytes is the whole serialized sample (snapshot_wire_bytes, headers and XCDR
 //    padding included; 0 = unlimited). Removals are listed first (4 bytes each; those that do not
-//    fit wait, so each id is still listed exactly removed_repeat times), the rest goes to poses
+//    fit wait, so each id is still listed exactly removed_repeat times, unless the object's pose
+//    is sent again first: then the rest of its removal is dropped), the rest goes to poses
 //    (9 bytes, + 4 for an id escape). The size is computed exactly and checked after encoding.
 //  - No allocation in index()/build() after warm-up (the world's largest index, the largest body
-//    count and the caller's reused Snapshot vectors), except when the world grows.
+//    count, the caller's reused Snapshot vectors and Scratch), except when the world grows.
+//
+// Threads: index(), add_client() and remove_client() need the builder to themselves. Between
+// them, build() may run concurrently on several threads for DISTINCT clients, each thread with
+// its own Scratch (the per-client state is disjoint and the tick's index is only read). The
+// overload without a Scratch uses one inside the builder: never two of those at the same time.
+// The result is the same bytes whatever the threads or the order of the builds: a client's
+// snapshot depends only on the index and that client's own history.
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -76,9 +94,32 @@ class SnapshotBuilder {
   // index beyond ObjectId::kMaxIndex or two bodies with the same index: std::invalid_argument.
   void index(const BodyView& bodies, std::uint64_t tick);
 
+  // Working memory of one build() at a time (candidate lists, keys, the returned BuildStats).
+  // One per thread that builds concurrently; reusable across builders and ticks. Grows to the
+  // largest index it served, then build() does not allocate.
+  class Scratch {
+   public:
+    Scratch();
+    ~Scratch();
+    Scratch(Scratch&&) noexcept;
+    Scratch& operator=(Scratch&&) noexcept;
+    Scratch(const Scratch&) = delete;
+    Scratch& operator=(const Scratch&) = delete;
+
+   private:
+    friend class SnapshotBuilder;
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+  };
+
   // Fills out's origin/unit, pose arrays, removed and objects_in_view for this client (other
   // Snapshot fields are the caller's). Unknown client or a non-finite / > 1000 km camera
-  // coordinate: std::invalid_argument; build() before any index(): std::logic_error.
+  // coordinate: std::invalid_argument; build() before any index(): std::logic_error. The
+  // returned stats live in `scratch` until its next build. Safe concurrently for distinct
+  // clients with distinct scratches (see "Threads" above).
+  const BuildStats& build(std::uint32_t client_id, double camera_x, double camera_y, protocol::Snapshot& out,
+                          Scratch& scratch);
+  // The same with the builder's own Scratch: one thread at a time.
   const BuildStats& build(std::uint32_t client_id, double camera_x, double camera_y, protocol::Snapshot& out);
 
   const InterestConfig& config() const { return config_; }
