@@ -68,7 +68,7 @@ TEST(ServerProcess, SigtermEndsTheMatchGracefully) {
   const auto dir = temp_dir("sigterm");
   const auto summary = (dir / "summary.json").string();
   const pid_t pid = spawn({kServer, "--scene", "battle", "--npcs", "300", "--domain", "151", "--admin-port", "-1",
-                           "--summary-json", summary, "--log-level", "info"},
+                           "--summary-json", summary, "--log-level", "info", "--log", (dir / "match.tlog").string()},
                           (dir / "out.txt").string());
   ASSERT_GT(pid, 0);
   TestClient client(151);
@@ -88,6 +88,11 @@ TEST(ServerProcess, SigtermEndsTheMatchGracefully) {
   const auto err = slurp((dir / "out.txt.err").string());
   EXPECT_NE(err.find("SIGTERM received"), std::string::npos) << err;
   EXPECT_NE(slurp((dir / "out.txt").string()).find("throng-server summary"), std::string::npos);
+  // The match log it wrote replays bit-exactly: every tick's state hash matches.
+  const pid_t replay = spawn({std::string(THRONG_BIN_DIR) + "/throng-replay", "verify", (dir / "match.tlog").string()},
+                             (dir / "verify.txt").string());
+  ASSERT_GT(replay, 0);
+  EXPECT_EQ(wait_exit(replay, 60s), 0) << slurp((dir / "verify.txt").string()) << slurp((dir / "verify.txt.err").string());
   std::filesystem::remove_all(dir);
 }
 
@@ -146,7 +151,7 @@ TEST(ServerProcess, BadCommandLinesAreRejectedWithAClearMessage) {
   for (const auto& c : cases) {
     std::vector<std::string> argv{kServer};
     argv.insert(argv.end(), c.args.begin(), c.args.end());
-    argv.insert(argv.end(), {"--admin-port", "-1", "--domain", "153"});
+    argv.insert(argv.end(), {"--no-log", "--admin-port", "-1", "--domain", "153"});
     if (c.args[0] == "--domain") argv.resize(argv.size() - 2);
     const auto out = (dir / "out.txt").string();
     const pid_t pid = spawn(argv, out);

@@ -27,6 +27,7 @@ inline server::ServerOptions small_server_options(int domain) {
   o.domain = domain;
   o.admin_port = -1;
   o.log_level = "warn";
+  o.log_file.clear();  // tests that want a match log set a path in a temp dir
   o.match.tick_hz = 30;
   o.match.client_timeout_s = 30.0;
   return o;

@@ -13,6 +13,7 @@
 #include "throng/admin/admin_server.h"
 #include "throng/admin/metrics.h"
 #include "throng/match/match.h"
+#include "throng/matchlog/writer.h"
 #include "throng/protocol/dds_transport.h"
 #include "throng/scene/builtin_scenes.h"
 #include "throng/scene/scale.h"
@@ -55,6 +56,8 @@ struct MatchServer::Impl {
   admin::MetricsRegistry registry;
   ServerMetrics metrics{registry};
   std::unique_ptr<admin::AdminServer> admin;
+  std::unique_ptr<matchlog::MatchLogWriter> log;  // null with --no-log
+  std::uint64_t log_dropped_seen = 0, log_spilled_seen = 0;
 
   match::Outbox outbox;
   ClientLedger ledger;
@@ -83,13 +86,41 @@ struct MatchServer::Impl {
       ao.port = static_cast<std::uint16_t>(o.admin_port);
       admin = std::make_unique<admin::AdminServer>(registry, [this] { return ready.load(); }, ao);
     }
+    if (!o.log_file.empty()) {
+      const std::string path = o.log_file == "auto" ? "logs/" + match.match_info().match_id + ".tlog" : o.log_file;
+      log = std::make_unique<matchlog::MatchLogWriter>(path);
+      matchlog::LogHeader h;
+      h.match_id = match.match_info().match_id;
+      h.scene = scene;
+      h.config = o.match;
+      log->begin(h);
+      spdlog::info("match log: {} (verify with: throng-replay verify {})", path, path);
+    }
   }
 
   void publish_outbox();
   void publish_stats(const match::TickReport& report);
   void run_tick(Clock::time_point woke);
   void log_progress(Clock::time_point now);
+  void check_log();
 };
+
+// Once a second: the log writer never blocks the tick, so a slow disk shows up here, loudly.
+void MatchServer::Impl::check_log() {
+  const matchlog::WriterStats s = log->stats();
+  metrics.log_backlog_ticks.set(static_cast<double>(s.backlog_ticks));
+  metrics.log_bytes.set(static_cast<double>(s.bytes_written));
+  if (s.ticks_dropped > log_dropped_seen) {
+    metrics.log_ticks_dropped.inc(s.ticks_dropped - log_dropped_seen);
+    spdlog::error("match log: {} ticks dropped so far (disk too slow or I/O error: {}); the log has a gap", s.ticks_dropped,
+                  s.io_error.empty() ? "none" : s.io_error);
+    log_dropped_seen = s.ticks_dropped;
+  }
+  if (s.spilled_ticks > log_spilled_seen) {
+    spdlog::warn("match log: the disk is behind the match ({} ticks waiting to be written)", s.backlog_ticks);
+    log_spilled_seen = s.spilled_ticks;
+  }
+}
 
 MatchServer::MatchServer(const ServerOptions& options) : impl_(std::make_unique<Impl>(options)) {}
 MatchServer::~MatchServer() = default;
@@ -165,6 +196,7 @@ void MatchServer::Impl::run_tick(Clock::time_point woke) {
   schedule->begin_tick(woke);
   ledger.update_commands(match);  // before the tick: a client that leaves in it takes its counts along
   const match::TickReport& report = match.tick(outbox);
+  if (log) log->append_tick(report.tick, match.last_inputs(), report.state_hash, stopping ? matchlog::kTickShutdownBegan : 0);
   const auto published_at = Clock::now();
   publish_outbox();
   const auto done = Clock::now();
@@ -215,7 +247,10 @@ void MatchServer::Impl::run_tick(Clock::time_point woke) {
   if (skipped > metrics.skipped_ticks.value()) metrics.skipped_ticks.inc(skipped - metrics.skipped_ticks.value());
 
   if (stopping) finished = true;
-  if (report.tick % options.match.tick_hz == 0 || finished) publish_stats(report);
+  if (report.tick % options.match.tick_hz == 0 || finished) {
+    publish_stats(report);
+    if (log) check_log();
+  }
   if (done - last_progress >= std::chrono::seconds(10)) log_progress(done);
   ready.store(!finished);
 }
@@ -287,6 +322,16 @@ int MatchServer::run(bool handle_signals) {
   io.run();
 
   m.transport.flush(std::chrono::seconds(2));  // clients must hear "ended" before we vanish
+  if (m.log) {
+    try {
+      m.log->close();
+      const auto ls = m.log->stats();
+      spdlog::info("match log closed: {} ticks, {} bytes ({:.0f} bytes/tick)", ls.ticks_written, ls.bytes_written,
+                   ls.ticks_written ? static_cast<double>(ls.bytes_written) / static_cast<double>(ls.ticks_written) : 0.0);
+    } catch (const std::exception& e) {
+      spdlog::error("match log: {}", e.what());
+    }
+  }
   m.wall_seconds = seconds_between(m.started, Clock::now());
   m.ledger.update_commands(m.match);
   m.ready.store(false);

@@ -53,6 +53,9 @@ ParseResult parse_server_options(const std::vector<std::string>& args) {
   app.add_option("--npc-speed", m.npc_speed_mps, "m/s NPCs march at")->check(CLI::Range(0.0, 50.0));
   app.add_option("--threads", m.worker_threads, "threads building and publishing snapshots (results do not depend on it)")
       ->check(CLI::Range(1u, 64u));
+  app.add_option("--log", o.log_file, "match log file (replay with throng-replay); default logs/<match id>.tlog");
+  bool no_log = false;
+  app.add_flag("--no-log", no_log, "do not write a match log");
   app.add_option("--summary-json", o.summary_json, "write the end-of-match summary to this JSON file");
   app.add_option("--log-level", o.log_level, "trace, debug, info, warn or error")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
@@ -70,7 +73,8 @@ ParseResult parse_server_options(const std::vector<std::string>& args) {
     m.interest.budget_bytes = static_cast<std::uint32_t>(std::floor(client_kbps * 1000.0 / 8.0 / m.tick_hz));
     if (client_kbps > 0.0 && m.interest.budget_bytes < 128)
       throw CLI::ValidationError("--client-kbps", "leaves under 128 bytes per snapshot at this tick rate");
-    m.interest.keepalive_ticks = m.tick_hz;  // an unchanged object is refreshed once a second
+    m.interest.keepalive_ticks = m.tick_hz;
+    if (no_log) o.log_file.clear();  // an unchanged object is refreshed once a second
   } catch (const CLI::ParseError& e) {
     result.exit_code = e.get_exit_code();
     result.message = e.get_name() == "CallForHelp" ? app.help() : std::string("throng-server: ") + e.what() + "\nRun with --help for the options.";

@@ -34,7 +34,10 @@ ServerMetrics::ServerMetrics(admin::MetricsRegistry& r)
       other_bytes(r.counter("throng_other_bytes_total", "Serialized payload bytes published on the other topics.")),
       push_events(r.counter("throng_push_events_total", "Contacts the solver pushed apart.")),
       view_error_max_m(r.gauge("throng_view_error_max_meters", "Largest distance between an object and a client's copy of it, last tick.")),
-      state_hash_low32(r.gauge("throng_state_hash_low32", "Low 32 bits of the last tick's world state hash (determinism checks).")) {
+      state_hash_low32(r.gauge("throng_state_hash_low32", "Low 32 bits of the last tick's world state hash (determinism checks).")),
+      log_backlog_ticks(r.gauge("throng_matchlog_backlog_ticks", "Ticks appended to the match log but not yet written.")),
+      log_bytes(r.gauge("throng_matchlog_bytes", "Size of the match log so far.")),
+      log_ticks_dropped(r.counter("throng_matchlog_ticks_dropped_total", "Ticks the match log lost (disk too slow or I/O error).")) {
   for (std::size_t i = 0; i < match::kRejectReasonCount; ++i)
     commands_rejected[i] = &r.counter("throng_commands_rejected_total", "Client commands rejected, by reason.",
                                       {{"reason", match::to_string(static_cast<match::RejectReason>(i))}});

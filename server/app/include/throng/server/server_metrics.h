@@ -36,6 +36,9 @@ struct ServerMetrics {
   admin::Counter& push_events;
   admin::Gauge& view_error_max_m;
   admin::Gauge& state_hash_low32;
+  admin::Gauge& log_backlog_ticks;
+  admin::Gauge& log_bytes;
+  admin::Counter& log_ticks_dropped;
 };
 
 }  // namespace throng::server

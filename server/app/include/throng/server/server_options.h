@@ -19,6 +19,7 @@ struct ServerOptions {
   int admin_port = 9470;           // -1 = no admin HTTP, 0 = any free port
   std::string admin_bind = "127.0.0.1";
   std::string summary_json;        // written at exit when set
+  std::string log_file = "auto";   // match log: "auto" = logs/<match id>.tlog, "" = none (--no-log)
   std::string log_level = "info";  // trace, debug, info, warn, error
   std::uint32_t max_catchup_ticks = 3;
   match::MatchConfig match;        // tick rate, clients, interest ... (match_config.h)

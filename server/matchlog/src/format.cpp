@@ -1,0 +1,18 @@
+#include "throng/matchlog/format.h"
+
+namespace throng::matchlog {
+
+const char* to_string(RecordType t) {
+  switch (t) {
+    case RecordType::header: return "header";
+    case RecordType::tick_block: return "tick block";
+    case RecordType::index: return "index";
+    case RecordType::gap: return "gap";
+    case RecordType::end: return "end";
+  }
+  return "unknown";
+}
+
+bool is_known_record_type(std::uint8_t t) { return t >= 1 && t <= 5; }
+
+}  // namespace throng::matchlog

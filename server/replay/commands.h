@@ -1,0 +1,58 @@
+#pragma once
+// throng-replay's subcommands. Each returns the process exit code:
+//   0  success (verify: every readable tick's hash matched; a torn tail is reported, not an error)
+//   1  verify/export: the re-simulation diverged from the logged hashes
+//   2  usage error, unreadable file, not a match log, unsupported version, bad header
+//   3  the log is damaged in the middle or has ticks the writer dropped: read/verified up to there
+#include <cstdint>
+#include <string>
+
+namespace throng::replay {
+
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitMismatch = 1;
+inline constexpr int kExitBadInput = 2;
+inline constexpr int kExitDamaged = 3;
+
+struct InfoOptions {
+  std::string log;
+  bool json = false;
+};
+int run_info(const InfoOptions& o);
+
+struct VerifyOptions {
+  std::string log;
+  bool quiet = false;  // no progress line
+  bool exact_config = false;  // replay with the logged interest settings (ResimOptions::exact_interest)
+};
+int run_verify(const VerifyOptions& o);
+
+struct ExportOptions {
+  std::string log;
+  std::uint64_t from = 1;
+  std::uint64_t to = 0;  // 0 = from
+  std::string format = "csv";
+  std::string out;       // "" = stdout
+  bool poses = true;
+  bool pushes = true;
+  bool quiet = false;
+  bool exact_config = false;
+};
+int run_export(const ExportOptions& o);
+
+// Progress on stderr: one rewriting line on a terminal, a line every 10% otherwise.
+class Progress {
+ public:
+  Progress(const char* what, bool enabled);
+  void update(std::uint64_t done, std::uint64_t total);
+  void finish();
+
+ private:
+  const char* what_;
+  bool enabled_, tty_;
+  int last_decile_ = -1;
+  double start_s_;
+  double last_print_s_ = -1.0;
+};
+
+}  // namespace throng::replay

@@ -1,0 +1,127 @@
+// Measurements for the log issue's report (disabled: run on a Release build with
+//   throng_matchlog_tests --gtest_also_run_disabled_tests --gtest_filter='Measure*'
+// and THRONG_MEASURE_BODIES / THRONG_MEASURE_TICKS to change the size (defaults 6000 / 900)).
+// The battle scene with 50 clients joined at tick 1, each sending one command per tick with its
+// camera over its entity, logged live by the default writer: bytes per tick for several writer
+// settings, append time per tick inside a real match, and verify speed.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+
+#include "matchlog_test_util.h"
+#include "throng/matchlog/reader.h"
+#include "throng/matchlog/replay.h"
+#include "throng/world/world.h"
+
+namespace throng::matchlog {
+namespace {
+
+std::uint64_t env_or(const char* name, std::uint64_t fallback) {
+  const char* v = std::getenv(name);
+  return v != nullptr ? std::strtoull(v, nullptr, 10) : fallback;
+}
+
+TEST(Measure, DISABLED_BattleLogSizeAppendTimeAndVerifySpeed) {
+  using Clock = std::chrono::steady_clock;
+  const std::uint64_t bodies = env_or("THRONG_MEASURE_BODIES", 6000);
+  const std::uint64_t ticks = env_or("THRONG_MEASURE_TICKS", 900);
+  const auto dir = test::test_dir();
+  const scene::SceneDef scene = test::small_battle(bodies);
+  match::MatchConfig config;  // the server's defaults: 30 Hz, 256 clients
+  match::Match m(scene, config, "measure");
+  match::Outbox out;
+  LogHeader h = test::match_header(scene, config);
+  MatchLogWriter w((dir / "live.tlog").string());
+  w.begin(h);
+
+  std::vector<TickRecord> recorded;
+  std::vector<double> append_us, tick_ms;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> clients;  // id, entity
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<float> unit(-0.7f, 0.7f);
+  for (std::uint64_t t = 1; t <= ticks; ++t) {
+    if (t == 1) {
+      for (std::uint64_t n = 1; n <= 50; ++n) {
+        protocol::JoinRequest j;
+        j.client_nonce = n;
+        j.name = "bot" + std::to_string(n);
+        m.inputs().push(std::move(j));
+      }
+    }
+    for (auto [id, entity] : clients) {
+      const Vec3 p = m.world().position(ObjectId{entity});
+      protocol::Command c;
+      c.client_id = id;
+      c.entity = entity;
+      c.sequence = static_cast<std::uint32_t>(t);
+      c.last_seen_tick = t - 1;
+      c.move_x = unit(rng);
+      c.move_y = unit(rng);
+      c.facing_rad = unit(rng);
+      c.camera_x = static_cast<float>(p.x);
+      c.camera_y = static_cast<float>(p.y - 8.0);
+      c.camera_z = 12.0f;
+      m.inputs().push(std::move(c));
+    }
+    const auto t0 = Clock::now();
+    const match::TickReport& r = m.tick(out);
+    const auto t1 = Clock::now();
+    w.append_tick(r.tick, m.last_inputs(), r.state_hash, 0);
+    const auto t2 = Clock::now();
+    tick_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    append_us.push_back(std::chrono::duration<double, std::micro>(t2 - t1).count());
+    for (const auto& reply : out.join_replies) clients.emplace_back(reply.client_id, reply.entity);
+    recorded.push_back(TickRecord{r.tick, r.state_hash, 0, m.last_inputs()});
+  }
+  w.close();
+  const WriterStats ws = w.stats();
+  ASSERT_EQ(clients.size(), 50u);
+  std::sort(append_us.begin(), append_us.end());
+  std::sort(tick_ms.begin(), tick_ms.end());
+  const auto q = [](const std::vector<double>& v, double f) { return v[static_cast<std::size_t>(f * static_cast<double>(v.size() - 1))]; };
+  std::printf("\nbattle scaled to %llu bodies, 50 clients x 1 command/tick, %llu ticks at %u Hz\n",
+              static_cast<unsigned long long>(bodies), static_cast<unsigned long long>(ticks), config.tick_hz);
+  std::printf("live Match::tick: median %.2f ms, p99 %.2f ms\n", q(tick_ms, 0.5), q(tick_ms, 0.99));
+  std::printf("append_tick inside the match: median %.2f us, p99 %.2f us, max %.1f us (writer stats: p99 %.1f us, max %.1f us, "
+              "backlog high-water %llu ticks, fsyncs %llu, max fsync %.2f ms)\n",
+              q(append_us, 0.5), q(append_us, 0.99), append_us.back(), ws.p99_append_us, ws.max_append_us,
+              static_cast<unsigned long long>(ws.backlog_high_water), static_cast<unsigned long long>(ws.fsyncs), ws.max_fsync_ms);
+
+  std::printf("bytes per tick (tick-block records incl. framing; whole file / ticks in brackets):\n");
+  std::printf("  block_ticks  zstd_level  bytes/tick\n");
+  for (std::uint32_t block : {1u, 5u, 15u, 30u}) {
+    for (int level : {0, 1, 3, 9}) {
+      WriterOptions o;
+      o.block_ticks = block;
+      o.zstd_level = level;
+      const auto path = dir / ("b" + std::to_string(block) + "z" + std::to_string(level) + ".tlog");
+      test::write_played(path, recorded, h, o);
+      MatchLogReader r(path.string());
+      std::printf("  %11u  %10d  %10.1f  [%.1f]%s\n", block, level,
+                  static_cast<double>(r.scan().tick_block_bytes) / static_cast<double>(ticks),
+                  static_cast<double>(r.scan().file_bytes) / static_cast<double>(ticks),
+                  block == 15 && level == 1 ? "   <- default" : "");
+    }
+  }
+  MatchLogReader live((dir / "live.tlog").string());
+  std::printf("  uncompressed tick entries: %.1f bytes/tick; header %llu bytes\n",
+              static_cast<double>(live.scan().raw_tick_bytes) / static_cast<double>(ticks),
+              static_cast<unsigned long long>(live.scan().header_bytes));
+
+  for (bool exact : {false, true}) {
+    ResimOptions ro;
+    ro.exact_interest = exact;
+    const VerifyResult v = verify_log(live, {}, 30, ro);
+    ASSERT_TRUE(v.all_match());
+    const double n = static_cast<double>(v.ticks_verified);
+    std::printf("verify%s: %llu ticks in %.2f s = %.0f ticks/s = %.1fx real time at %u Hz; per tick: step %.2f ms, ai %.2f ms, "
+                "snapshots %.2f ms, inputs %.3f ms\n",
+                exact ? " --exact-config" : "", static_cast<unsigned long long>(v.ticks_verified), v.seconds, v.ticks_per_second,
+                v.realtime_factor, config.tick_hz, v.step_ms / n, v.ai_ms / n, v.snapshots_ms / n, v.apply_ms / n);
+  }
+}
+
+}  // namespace
+}  // namespace throng::matchlog

@@ -1,0 +1,173 @@
+// throng-replay as a user runs it: exit codes and what it prints.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "matchlog_test_util.h"
+
+namespace throng::matchlog {
+namespace {
+
+struct CliRun {
+  int code = -1;
+  std::string out, err;
+};
+
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+CliRun run(const std::string& args, const std::filesystem::path& dir) {
+  const std::string bin = std::string(THRONG_BIN_DIR) + "/throng-replay";
+  const std::string cmd = "'" + bin + "' " + args + " > '" + (dir / "out.txt").string() + "' 2> '" + (dir / "err.txt").string() + "'";
+  const int status = std::system(cmd.c_str());
+  CliRun r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = slurp(dir / "out.txt");
+  r.err = slurp(dir / "err.txt");
+  return r;
+}
+
+bool has(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
+
+class ReplayCli : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { played_ = new test::PlayedMatch(test::play_match(90)); }
+  static void TearDownTestSuite() { delete played_; }
+  void SetUp() override {
+    if (!std::filesystem::exists(std::string(THRONG_BIN_DIR) + "/throng-replay")) GTEST_SKIP() << "throng-replay not built";
+    dir_ = test::test_dir();
+    log_ = dir_ / "m.tlog";
+    test::write_played(log_, played_->ticks, test::match_header());
+  }
+  static test::PlayedMatch* played_;
+  std::filesystem::path dir_, log_;
+};
+test::PlayedMatch* ReplayCli::played_ = nullptr;
+
+TEST_F(ReplayCli, HelpEverywhere) {
+  for (const char* sub : {"", "info ", "verify ", "export "}) {
+    const CliRun r = run(std::string(sub) + "--help", dir_);
+    EXPECT_EQ(r.code, 0) << sub;
+    EXPECT_TRUE(has(r.out, "Usage")) << sub << r.out;
+  }
+  EXPECT_EQ(run("", dir_).code, 2);  // a subcommand is required
+  EXPECT_EQ(run("frobnicate", dir_).code, 2);
+}
+
+TEST_F(ReplayCli, InfoAndVerifyOnACleanLog) {
+  CliRun r = run("info '" + log_.string() + "'", dir_);
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(has(r.out, "1..90 (90 ticks, 3.0 s of play)")) << r.out;
+  EXPECT_TRUE(has(r.out, "from 7 clients")) << r.out;  // six bots and the refused late joiner
+  EXPECT_TRUE(has(r.out, "shutdown began before tick 90")) << r.out;
+  EXPECT_TRUE(has(r.out, "closed cleanly")) << r.out;
+  EXPECT_TRUE(has(r.out, "bytes/tick")) << r.out;
+
+  r = run("info --json '" + log_.string() + "'", dir_);
+  EXPECT_EQ(r.code, 0);
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j.at("ticks"), 90);
+  EXPECT_EQ(j.at("torn_tail"), false);
+  EXPECT_EQ(j.at("match_id"), "recorded");
+  EXPECT_EQ(j.at("keyframes"), 0);
+
+  r = run("verify '" + log_.string() + "'", dir_);
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
+  EXPECT_TRUE(has(r.out, "verified 90 ticks (1..90): all state hashes match")) << r.out;
+  EXPECT_TRUE(has(r.out, "x real time at 30 Hz")) << r.out;
+  EXPECT_TRUE(has(r.err, "verify")) << r.err;  // progress on stderr
+}
+
+TEST_F(ReplayCli, VerifyFailsOnATamperedHash) {
+  const auto bad = dir_ / "tampered.tlog";
+  test::write_played(bad, played_->ticks, test::match_header(), {}, 33);
+  const CliRun r = run("verify -q '" + bad.string() + "'", dir_);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_TRUE(has(r.out, "MISMATCH at tick 33")) << r.out;
+  EXPECT_TRUE(has(r.out, "ticks 1..32 matched")) << r.out;
+  EXPECT_FALSE(has(r.err, "ticks/s")) << r.err;  // -q: no progress
+}
+
+TEST_F(ReplayCli, TornCorruptAndForeignFiles) {
+  const auto bytes = test::read_bytes(log_);
+  const auto torn = dir_ / "torn.tlog";
+  test::write_bytes(torn, bytes, bytes.size() - 100);
+  CliRun r = run("info '" + torn.string() + "'", dir_);
+  EXPECT_EQ(r.code, 0);
+  EXPECT_TRUE(has(r.out, "TORN TAIL: log ends mid-record at byte")) << r.out;
+  r = run("verify -q '" + torn.string() + "'", dir_);
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(has(r.out, "all state hashes match")) << r.out;
+  EXPECT_TRUE(has(r.out, "torn tail")) << r.out;
+
+  auto flipped = bytes;
+  flipped[bytes.size() / 2] ^= 0x40;
+  const auto corrupt = dir_ / "corrupt.tlog";
+  test::write_bytes(corrupt, flipped, flipped.size());
+  r = run("info '" + corrupt.string() + "'", dir_);
+  EXPECT_EQ(r.code, 3);
+  EXPECT_TRUE(has(r.out, "CORRUPT: corrupt record at byte")) << r.out;
+  r = run("verify -q '" + corrupt.string() + "'", dir_);
+  EXPECT_EQ(r.code, 3);
+  EXPECT_TRUE(has(r.out, "LOG DAMAGED")) << r.out;
+
+  const auto foreign = dir_ / "foreign.txt";
+  test::write_bytes(foreign, std::vector<std::uint8_t>(100, 'a'), 100);
+  r = run("info '" + foreign.string() + "'", dir_);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r.err, "not a Throng match log")) << r.err;
+  r = run("verify '" + (dir_ / "missing.tlog").string() + "'", dir_);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r.err, "cannot open")) << r.err;
+}
+
+TEST_F(ReplayCli, ExportCsvAndJson) {
+  const auto csv = dir_ / "poses.csv";
+  CliRun r = run("export -q '" + log_.string() + "' --from 10 --to 12 --format csv --out '" + csv.string() + "'", dir_);
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "record,tick,id,x,y,z,vx,vy,vz,other_id,depth_m,share_a,push_m");
+  std::size_t poses = 0, pushes = 0;
+  std::set<std::string> ticks;
+  while (std::getline(in, line)) {
+    if (line.rfind("pose,", 0) == 0) ++poses;
+    else if (line.rfind("push,", 0) == 0) ++pushes;
+    else ADD_FAILURE() << line;
+    ticks.insert(line.substr(5, 2));
+  }
+  EXPECT_EQ(poses, 3u * test::small_battle().agent_count());
+  EXPECT_GT(pushes, 0u);
+  EXPECT_EQ(ticks, (std::set<std::string>{"10", "11", "12"}));
+
+  const auto json = dir_ / "poses.json";
+  r = run("export -q '" + log_.string() + "' --from 5 --to 6 --format json --no-pushes --out '" + json.string() + "'", dir_);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(slurp(json));
+  ASSERT_EQ(j.at("ticks").size(), 2u);
+  EXPECT_EQ(j.at("ticks")[0].at("tick"), 5);
+  EXPECT_EQ(j.at("ticks")[0].at("poses").size(), test::small_battle().agent_count());
+  EXPECT_EQ(j.at("ticks")[0].at("poses")[0].size(), 7u);
+  EXPECT_FALSE(j.at("ticks")[0].contains("pushes"));
+
+  r = run("export -q '" + log_.string() + "' --from 80 --to 95", dir_);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r.err, "past the last tick")) << r.err;
+  r = run("export -q '" + log_.string() + "' --from 3 --format xml", dir_);
+  EXPECT_EQ(r.code, 2);
+}
+
+}  // namespace
+}  // namespace throng::matchlog

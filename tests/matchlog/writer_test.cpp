@@ -1,0 +1,224 @@
+// The writer: never blocks the tick (slow disk, spill, backlog reported), validates its calls,
+// fsyncs per policy, and a kill -9 mid-match leaves a log that verifies up to its last complete tick.
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <thread>
+
+#include "matchlog_test_util.h"
+#include "throng/matchlog/reader.h"
+#include "throng/matchlog/replay.h"
+#include "throng/matchlog/writer.h"
+
+namespace throng::matchlog {
+namespace {
+
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr double kSlack = 10.0;  // sanitizer builds are ~10x slower
+#else
+constexpr double kSlack = 1.0;
+#endif
+
+using Clock = std::chrono::steady_clock;
+
+match::TickInputs fifty_commands(std::uint64_t tick) {
+  match::TickInputs in;
+  for (std::uint32_t c = 1; c <= 50; ++c) {
+    protocol::Command cmd;
+    cmd.client_id = c;
+    cmd.entity = 1000 + c;
+    cmd.sequence = static_cast<std::uint32_t>(tick);
+    cmd.last_seen_tick = tick - 1;
+    cmd.move_x = 0.5f * static_cast<float>(c % 3) - 0.5f;
+    cmd.move_y = 0.01f * static_cast<float>(tick % 100);
+    cmd.facing_rad = 0.1f * static_cast<float>(c);
+    cmd.camera_x = static_cast<float>(c) * 2.0f;
+    cmd.camera_y = -3.0f;
+    cmd.camera_z = 12.0f;
+    in.commands.push_back(cmd);
+  }
+  return in;
+}
+
+TEST(Writer, SlowDiskNeverBlocksAppendAndReportsTheBacklog) {
+  const auto path = test::test_dir() / "slow.tlog";
+  WriterOptions o;
+  o.block_ticks = 1;
+  o.fsync_interval_ms = 0;  // fsync after every record
+  o.ring_slots = 8;
+  o.test_write_delay_ms = 5;  // every write takes 5 ms more: the disk is slower than the ticks
+  MatchLogWriter w(path.string(), o);
+  w.begin(test::match_header(test::small_battle(50)));
+  double worst_us = 0;
+  for (std::uint64_t t = 1; t <= 300; ++t) {
+    const match::TickInputs in = fifty_commands(t);
+    const auto t0 = Clock::now();
+    w.append_tick(t, in, t, 0);
+    worst_us = std::max(worst_us, std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+  }
+  const WriterStats mid = w.stats();
+  EXPECT_GT(mid.backlog_ticks, 8u);  // the disk is behind...
+  EXPECT_GT(mid.spilled_ticks, 0u);  // ...so ticks went to the spill list
+  EXPECT_EQ(mid.ticks_dropped, 0u);  // but nothing was lost
+  EXPECT_LT(worst_us, 5000.0 * kSlack) << "append waited for the disk";
+  EXPECT_LT(mid.p99_append_us, 100.0 * kSlack);
+  w.close();
+  const WriterStats s = w.stats();
+  EXPECT_EQ(s.ticks_written, 300u);
+  EXPECT_EQ(s.backlog_ticks, 0u);
+  EXPECT_GE(s.backlog_high_water, mid.backlog_ticks);
+  EXPECT_GE(s.fsyncs, 300u);  // one per record with fsync_interval_ms = 0
+  EXPECT_TRUE(s.io_error.empty());
+  MatchLogReader r(path.string());
+  EXPECT_EQ(r.scan().ticks, 300u);
+  EXPECT_EQ(r.scan().end, LogEnd::closed);
+  std::printf("slow disk: worst append %.1f us, p99 %.1f us, backlog high-water %llu ticks, spilled %llu\n", worst_us,
+              mid.p99_append_us, static_cast<unsigned long long>(s.backlog_high_water),
+              static_cast<unsigned long long>(s.spilled_ticks));
+}
+
+TEST(Writer, AppendP99AtThirtyHzWithFiftyCommands) {
+  const auto path = test::test_dir() / "p99.tlog";
+  MatchLogWriter w(path.string());
+  w.begin(test::match_header(test::small_battle(50)));
+  std::vector<double> us;
+  for (std::uint64_t t = 1; t <= 1500; ++t) {
+    const match::TickInputs in = fifty_commands(t);
+    const auto t0 = Clock::now();
+    w.append_tick(t, in, t, 0);
+    us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+    std::this_thread::sleep_for(std::chrono::microseconds(300));  // other tick work
+  }
+  w.close();
+  std::sort(us.begin(), us.end());
+  const double p50 = us[us.size() / 2], p99 = us[us.size() * 99 / 100];
+  const WriterStats s = w.stats();
+  std::printf("append with 50 commands: p50 %.2f us, p99 %.2f us, max %.1f us (writer's own p99 %.1f us); %.0f bytes/tick on disk, %.0f raw\n",
+              p50, p99, us.back(), s.p99_append_us, static_cast<double>(s.bytes_written) / 1500.0,
+              static_cast<double>(s.raw_tick_bytes) / 1500.0);
+  EXPECT_LT(p99, 100.0 * kSlack);
+  EXPECT_LT(s.p99_append_us, 100.0 * kSlack);
+  EXPECT_EQ(s.ticks_written, 1500u);
+  EXPECT_LT(s.bytes_written, s.raw_tick_bytes);  // zstd helps
+}
+
+TEST(Writer, RejectsMisuseAndBadOptions) {
+  const auto dir = test::test_dir();
+  {
+    MatchLogWriter w((dir / "a.tlog").string());
+    w.begin(test::match_header(test::small_battle(20)));
+    match::TickInputs in;
+    EXPECT_THROW(w.append_tick(2, in, 0, 0), std::invalid_argument);  // must start at 1
+    w.append_tick(1, in, 0, 0);
+    EXPECT_THROW(w.append_tick(1, in, 0, 0), std::invalid_argument);
+    EXPECT_THROW(w.append_tick(2, in, 0, 0x80), std::invalid_argument);  // unknown flag
+    EXPECT_THROW(w.begin(test::match_header()), LogError);
+    w.close();
+    w.close();  // idempotent
+    EXPECT_THROW(w.append_tick(2, in, 0, 0), std::logic_error);
+  }
+  WriterOptions bad;
+  bad.block_ticks = 0;
+  EXPECT_THROW(MatchLogWriter((dir / "b.tlog").string(), bad).begin(test::match_header()), LogError);
+  bad = {};
+  bad.zstd_level = 40;
+  EXPECT_THROW(MatchLogWriter((dir / "b.tlog").string(), bad).begin(test::match_header()), LogError);
+  // A path that cannot be created: a file where the folder should be.
+  test::write_bytes(dir / "file", {1}, 1);
+  try {
+    MatchLogWriter((dir / "file" / "x.tlog").string()).begin(test::match_header());
+    FAIL() << "no error";
+  } catch (const LogError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot create"), std::string::npos) << e.what();
+  }
+  // Parent folders are created.
+  MatchLogWriter nested((dir / "logs" / "deep" / "m.tlog").string());
+  nested.begin(test::match_header(test::small_battle(20)));
+  nested.close();
+  EXPECT_TRUE(std::filesystem::exists(dir / "logs" / "deep" / "m.tlog"));
+}
+
+TEST(Writer, DiskFullIsReportedNotHidden) {
+  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  MatchLogWriter w("/dev/full");
+  EXPECT_THROW(w.begin(test::match_header(test::small_battle(20))), LogError);
+}
+
+TEST(Writer, KillNineMidMatchLeavesALogThatVerifiesToItsLastCompleteTick) {
+  const auto played = test::play_match(240);
+  const auto path = test::test_dir() / "killed.tlog";
+  std::fflush(nullptr);
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    // The "server": paced ticks, the writer as the server uses it; never closes.
+    MatchLogWriter w(path.string());
+    w.begin(test::match_header());
+    for (const TickRecord& t : played.ticks) {
+      w.append_tick(t.tick, t.inputs, t.state_hash, t.flags);
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    std::this_thread::sleep_for(std::chrono::seconds(30));
+    ::_exit(0);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ::kill(child, SIGKILL);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status));
+
+  MatchLogReader r(path.string());
+  const LogScan& s = r.scan();
+  EXPECT_NE(s.end, LogEnd::closed);
+  EXPECT_NE(s.end, LogEnd::corrupt) << s.problem;
+  EXPECT_GT(s.ticks, 0u);
+  EXPECT_FALSE(s.problem.empty());
+  const VerifyResult v = verify_log(r);
+  EXPECT_TRUE(v.all_match());
+  EXPECT_EQ(v.ticks_verified, s.ticks);
+  std::printf("killed after ~300 ms: %llu ticks kept (%s)\n", static_cast<unsigned long long>(s.ticks), s.problem.c_str());
+}
+
+}  // namespace
+}  // namespace throng::matchlog
+
+namespace throng::matchlog {
+namespace {
+
+// Exactly the calls writer.h documents for the server.
+TEST(Writer, ServerUsagePatternFromTheHeader) {
+  const auto path = test::test_dir() / "logs" / "server.tlog";
+  const scene::SceneDef scene = test::small_battle(80);
+  const match::MatchConfig config = test::small_config();
+  match::Match match(scene, config, "server-match");
+  match::Outbox outbox;
+  MatchLogWriter log(path.string());
+  LogHeader header;
+  header.match_id = "server-match";
+  header.scene = scene;
+  header.config = config;
+  log.begin(header);
+  for (int i = 0; i < 40; ++i) {
+    const bool last = i == 39;
+    if (last) match.begin_shutdown();
+    const std::uint8_t flags = last ? kTickShutdownBegan : 0;
+    const match::TickReport& r = match.tick(outbox);
+    log.append_tick(r.tick, match.last_inputs(), r.state_hash, flags);
+  }
+  const WriterStats s = log.stats();
+  EXPECT_EQ(s.ticks_appended, 40u);
+  EXPECT_TRUE(s.io_error.empty());
+  log.close();
+  MatchLogReader r(path.string());
+  EXPECT_EQ(r.scan().ticks, 40u);
+  EXPECT_EQ(r.header().match_id, "server-match");
+  EXPECT_TRUE(verify_log(r).all_match());
+}
+
+}  // namespace
+}  // namespace throng::matchlog
