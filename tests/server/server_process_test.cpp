@@ -1,12 +1,6 @@
 // throng-server as a process: graceful shutdown on SIGTERM (exit 0, summary written, clients told
 // the match ended), the admin endpoint serving throng_ metrics, and bad command lines rejected.
 #include <csignal>
-#include <cstdio>
-#include <filesystem>
-#include <fstream>
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
 
 #include <arpa/inet.h>
 #include <netinet/in.h>
@@ -17,83 +11,41 @@
 #include <nlohmann/json.hpp>
 
 #include "server_test_support.h"
-
-extern char** environ;
+#include "support/child_process.h"
 
 namespace throng::test {
 namespace {
 
-// Runs a binary with args; returns its pid.
-pid_t spawn(const std::vector<std::string>& argv, const std::string& out_file) {
-  std::vector<char*> args;
-  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, 1, out_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_addopen(&fa, 2, (out_file + ".err").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  pid_t pid = -1;
-  const int rc = posix_spawn(&pid, argv[0].c_str(), &fa, nullptr, args.data(), environ);
-  posix_spawn_file_actions_destroy(&fa);
-  return rc == 0 ? pid : -1;
-}
-
-// waitpid with a deadline; returns the exit status or -1 (and kills the child) on timeout.
-int wait_exit(pid_t pid, std::chrono::milliseconds timeout) {
-  const auto until = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < until) {
-    int status = 0;
-    if (waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    std::this_thread::sleep_for(20ms);
-  }
-  kill(pid, SIGKILL);
-  waitpid(pid, nullptr, 0);
-  return -1;
-}
-
-std::string slurp(const std::string& path) {
-  std::ifstream f(path);
-  return std::string(std::istreambuf_iterator<char>(f), {});
-}
-
-std::filesystem::path temp_dir(const std::string& name) {
-  auto d = std::filesystem::temp_directory_path() / ("throng-" + name + "-" + std::to_string(::getpid()));
-  std::filesystem::create_directories(d);
-  return d;
-}
-
 const std::string kServer = std::string(THRONG_BIN_DIR) + "/throng-server";
 
 TEST(ServerProcess, SigtermEndsTheMatchGracefully) {
-  const auto dir = temp_dir("sigterm");
+  TempDir dir("throng-sigterm");
   const auto summary = (dir / "summary.json").string();
-  const pid_t pid = spawn({kServer, "--scene", "battle", "--npcs", "300", "--domain", "151", "--admin-port", "-1",
-                           "--summary-json", summary, "--log-level", "info", "--log", (dir / "match.tlog").string()},
-                          (dir / "out.txt").string());
-  ASSERT_GT(pid, 0);
+  ChildProcess server(kServer,
+                      {"--scene", "battle", "--npcs", "300", "--domain", "151", "--admin-port", "-1", "--summary-json",
+                       summary, "--log-level", "info", "--log", (dir / "match.tlog").string()},
+                      dir / "out.txt", dir / "err.txt");
   TestClient client(151);
   const auto r = client.join(12, "witness");
-  ASSERT_TRUE(r && r->result == protocol::JoinResult::accepted) << slurp((dir / "out.txt.err").string());
+  ASSERT_TRUE(r && r->result == protocol::JoinResult::accepted) << read_file(dir / "err.txt");
   ASSERT_TRUE(client.wait_until([&] { return client.snapshots().size() >= 5; }));
-  kill(pid, SIGTERM);
-  EXPECT_EQ(wait_exit(pid, 10s), 0) << slurp((dir / "out.txt.err").string());
+  server.signal(SIGTERM);
+  EXPECT_EQ(server.wait(10s), 0) << read_file(dir / "err.txt");
   // Clients are told the match ended.
   EXPECT_TRUE(client.wait_until([&] {
     return !client.match_infos().empty() && client.match_infos().back().state == protocol::MatchState::ended;
   }, 5s));
   // The summary is complete JSON and the log says what happened.
-  const auto j = nlohmann::json::parse(slurp(summary));
+  const auto j = nlohmann::json::parse(read_file(summary));
   EXPECT_GT(j["ticks"].get<std::uint64_t>(), 5u);
   EXPECT_EQ(j["clients"].size(), 1u);
-  const auto err = slurp((dir / "out.txt.err").string());
+  const auto err = read_file(dir / "err.txt");
   EXPECT_NE(err.find("SIGTERM received"), std::string::npos) << err;
-  EXPECT_NE(slurp((dir / "out.txt").string()).find("throng-server summary"), std::string::npos);
+  EXPECT_NE(read_file(dir / "out.txt").find("throng-server summary"), std::string::npos);
   // The match log it wrote replays bit-exactly: every tick's state hash matches.
-  const pid_t replay = spawn({std::string(THRONG_BIN_DIR) + "/throng-replay", "verify", (dir / "match.tlog").string()},
-                             (dir / "verify.txt").string());
-  ASSERT_GT(replay, 0);
-  EXPECT_EQ(wait_exit(replay, 60s), 0) << slurp((dir / "verify.txt").string()) << slurp((dir / "verify.txt.err").string());
-  std::filesystem::remove_all(dir);
+  ChildProcess replay(std::string(THRONG_BIN_DIR) + "/throng-replay", {"verify", (dir / "match.tlog").string()},
+                      dir / "verify.txt", dir / "verify.err");
+  EXPECT_EQ(replay.wait(60s), 0) << read_file(dir / "verify.txt") << read_file(dir / "verify.err");
 }
 
 std::string http_get(std::uint16_t port, const std::string& path) {
@@ -135,7 +87,7 @@ TEST(ServerProcess, AdminEndpointServesHealthReadinessAndMetrics) {
 }
 
 TEST(ServerProcess, BadCommandLinesAreRejectedWithAClearMessage) {
-  const auto dir = temp_dir("cli");
+  TempDir dir("throng-cli");
   struct Case {
     std::vector<std::string> args;
     std::string expect;
@@ -149,22 +101,19 @@ TEST(ServerProcess, BadCommandLinesAreRejectedWithAClearMessage) {
       {{"--bogus"}, "bogus"},
   };
   for (const auto& c : cases) {
-    std::vector<std::string> argv{kServer};
-    argv.insert(argv.end(), c.args.begin(), c.args.end());
-    argv.insert(argv.end(), {"--no-log", "--admin-port", "-1", "--domain", "153"});
-    if (c.args[0] == "--domain") argv.resize(argv.size() - 2);
-    const auto out = (dir / "out.txt").string();
-    const pid_t pid = spawn(argv, out);
-    ASSERT_GT(pid, 0);
-    const int code = wait_exit(pid, 20s);
-    EXPECT_NE(code, 0) << c.args[0];
-    const auto err = slurp(out + ".err");
+    std::vector<std::string> args = c.args;
+    args.insert(args.end(), {"--no-log", "--admin-port", "-1"});
+    if (c.args[0] != "--domain") args.insert(args.end(), {"--domain", "153"});
+    ChildProcess server(kServer, args, dir / "out.txt", dir / "err.txt");
+    const auto code = server.wait(20s);
+    ASSERT_TRUE(code.has_value()) << c.args[0] << ": still running after 20 s";
+    EXPECT_NE(*code, 0) << c.args[0];
+    const auto err = read_file(dir / "err.txt");
     EXPECT_NE(err.find(c.expect), std::string::npos) << "for " << c.args[0] << " got: " << err;
   }
-  const pid_t pid = spawn({kServer, "--help"}, (dir / "help.txt").string());
-  EXPECT_EQ(wait_exit(pid, 10s), 0);
-  EXPECT_NE(slurp((dir / "help.txt").string()).find("--interest-radius"), std::string::npos);
-  std::filesystem::remove_all(dir);
+  ChildProcess help(kServer, {"--help"}, dir / "help.txt", dir / "help.err");
+  EXPECT_EQ(help.wait(10s), 0);
+  EXPECT_NE(read_file(dir / "help.txt").find("--interest-radius"), std::string::npos);
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 #pragma once
-// Helpers for the throng-view tests: child processes with bounded waits (killed in the destructor),
-// temporary directories, polling with a deadline, and a small Boost.Beast WebSocket/HTTP client
+// Helpers for the throng-view tests (processes and temp dirs come from tests/support): polling
+// with a deadline, throng-view's port, and a small Boost.Beast WebSocket/HTTP client
 // whose every operation is bounded by a timeout (used for the gateway's /ws and for Chromium's
 // DevTools protocol).
 #include <sys/types.h>
@@ -16,48 +16,19 @@
 
 #include <nlohmann/json.hpp>
 
+#include "support/child_process.h"
+
 namespace throng::view::testing {
 
 using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
 
-class TempDir {
- public:
-  TempDir();
-  ~TempDir();
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const std::filesystem::path& path() const { return path_; }
-  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+using throng::test::ChildProcess;
+using throng::test::read_file;
+using throng::test::TempDir;
 
- private:
-  std::filesystem::path path_;
-};
-
-class ChildProcess {
- public:
-  // Starts `program args...` with stdout/stderr redirected to files. own_group: the child leads a
-  // new process group and the destructor kills the whole group (Chromium's helper processes).
-  ChildProcess(const std::string& program, const std::vector<std::string>& args, const std::filesystem::path& out,
-               const std::filesystem::path& err, bool own_group = false);
-  ~ChildProcess();  // SIGKILL (the group when own_group) + reap
-  ChildProcess(const ChildProcess&) = delete;
-  ChildProcess& operator=(const ChildProcess&) = delete;
-
-  pid_t pid() const { return pid_; }
-  bool running();
-  void signal(int signo);
-  // Exit code (128 + signal when killed by one), or nullopt if still running after timeout.
-  std::optional<int> wait(std::chrono::milliseconds timeout);
-  void kill_now();
-
- private:
-  pid_t pid_ = -1;
-  bool own_group_ = false;
-  std::optional<int> status_;
-};
-
-std::string read_file(const std::filesystem::path& p);
+// The port in throng-view's "view at http://127.0.0.1:PORT/" line on its stdout, once printed.
+std::optional<std::uint16_t> view_port(const std::filesystem::path& out);
 
 // Polls pred every 50 ms until it is true or timeout passes; returns its last value.
 bool wait_until(const std::function<bool()>& pred, std::chrono::milliseconds timeout);

@@ -12,7 +12,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
-#include <regex>
 #include <thread>
 
 #include "test_support.h"
@@ -27,14 +26,6 @@ const std::string kView = THRONG_BIN_DIR "/throng-view";
 const std::string kChromium = "/usr/bin/chromium";
 constexpr int kDomain = 203;
 
-// "view at http://127.0.0.1:PORT/" on throng-view's stdout.
-std::optional<std::uint16_t> view_port(const std::filesystem::path& out) {
-  static const std::regex re(R"(view at http://127\.0\.0\.1:(\d+)/)");
-  std::smatch m;
-  const std::string text = read_file(out);
-  if (!std::regex_search(text, m, re)) return std::nullopt;
-  return static_cast<std::uint16_t>(std::stoi(m[1]));
-}
 
 struct Chromium {
   std::unique_ptr<ChildProcess> process;
@@ -81,7 +72,7 @@ TEST(ViewE2E, PageDrawsTheMatchAndKeysMoveTheEntityOnTheServer) {
       << "(bash deploy/install-deps.sh, or apt-get install -y chromium)";
   TempDir dir;
   ChildProcess server(kServer,
-                      {"--scene", "battle", "--npcs", "300", "--domain", std::to_string(kDomain), "--admin-port", "0",
+                      {"--no-log", "--scene", "battle", "--npcs", "300", "--domain", std::to_string(kDomain), "--admin-port", "0",
                        "--duration", "110", "--summary-json", (dir / "summary.json").string(), "--client-timeout",
                        "60", "--log-level", "warn"},
                       dir / "server.out", dir / "server.log");

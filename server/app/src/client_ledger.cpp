@@ -15,6 +15,8 @@ void ClientLedger::departed(const match::ClientEvent& e, std::uint64_t tick) {
   if (it == records_.end()) return;
   it->second.departed_tick = tick;
   it->second.departure = e.kind == match::ClientEvent::Kind::left ? "left" : "timed_out";
+  it->second.commands_accepted = e.commands_accepted;
+  it->second.commands_rejected = e.commands_rejected;
 }
 
 void ClientLedger::snapshot_published(std::uint32_t client_id, std::size_t poses) {

@@ -30,6 +30,11 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Brings a Prometheus counter up to a running total kept elsewhere (counters only go up).
+void raise_to(admin::Counter& counter, std::uint64_t total) {
+  if (total > counter.value()) counter.inc(total - counter.value());
+}
+
 double seconds_between(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
 }
@@ -61,14 +66,14 @@ struct MatchServer::Impl {
 
   match::Outbox outbox;
   ClientLedger ledger;
-  DurationStats tick_all, tick_window, publish_all;
+  DurationStats tick_all, tick_window;
   PhaseStats phases;  // per named phase, for the summary
-  protocol::TransportCounters published_before{};
   std::atomic<bool> stop_requested{false};
   std::atomic<bool> ready{false};
   Clock::time_point started{};
   Clock::time_point last_progress{};
   double wall_seconds = 0.0;
+  std::uint64_t snapshot_bytes_at_last_progress = 0;  // for the progress line's rate
   std::uint64_t push_events_total = 0;
   std::uint64_t poses_total = 0;
   double view_error_max_m = 0.0;
@@ -194,7 +199,6 @@ void MatchServer::Impl::run_tick(Clock::time_point woke) {
   if (stopping) match.begin_shutdown();  // this tick already refuses joins and says "ended"
 
   schedule->begin_tick(woke);
-  ledger.update_commands(match);  // before the tick: a client that leaves in it takes its counts along
   const match::TickReport& report = match.tick(outbox);
   if (log) log->append_tick(report.tick, match.last_inputs(), report.state_hash, stopping ? matchlog::kTickShutdownBegan : 0);
   const auto published_at = Clock::now();
@@ -205,7 +209,6 @@ void MatchServer::Impl::run_tick(Clock::time_point woke) {
   const double tick_s = seconds_between(woke, done);
   tick_all.add(tick_s);
   tick_window.add(tick_s);
-  publish_all.add(seconds_between(published_at, done));
   phases.add(report, seconds_between(published_at, done));
   push_events_total += report.push_events;
   poses_total += report.snapshot_poses;
@@ -230,21 +233,16 @@ void MatchServer::Impl::run_tick(Clock::time_point woke) {
   metrics.snapshot_poses.inc(report.snapshot_poses);
   metrics.view_error_max_m.set(report.view_error_max_m);
   metrics.state_hash_low32.set(static_cast<double>(report.state_hash & 0xFFFF'FFFFu));
+  // Totals kept elsewhere (match, transport, schedule) are mirrored into the counters.
   const auto& by_reason = match.rejected_by_reason();
-  for (std::size_t i = 0; i < by_reason.size(); ++i) {
-    const auto seen = metrics.commands_rejected[i]->value();
-    if (by_reason[i] > seen) metrics.commands_rejected[i]->inc(by_reason[i] - seen);
-  }
-  const auto dropped = match.inputs().dropped();
-  if (dropped > metrics.input_queue_dropped.value()) metrics.input_queue_dropped.inc(dropped - metrics.input_queue_dropped.value());
+  for (std::size_t i = 0; i < by_reason.size(); ++i) raise_to(*metrics.commands_rejected[i], by_reason[i]);
+  raise_to(metrics.input_queue_dropped, match.inputs().dropped());
   const auto c = transport.counters();
-  metrics.snapshot_samples.inc(c.snapshot_samples - published_before.snapshot_samples);
-  metrics.snapshot_bytes.inc(c.snapshot_bytes - published_before.snapshot_bytes);
-  metrics.other_samples.inc(c.other_samples - published_before.other_samples);
-  metrics.other_bytes.inc(c.other_bytes - published_before.other_bytes);
-  published_before = c;
-  const auto skipped = schedule->skipped();
-  if (skipped > metrics.skipped_ticks.value()) metrics.skipped_ticks.inc(skipped - metrics.skipped_ticks.value());
+  raise_to(metrics.snapshot_samples, c.snapshot_samples);
+  raise_to(metrics.snapshot_bytes, c.snapshot_bytes);
+  raise_to(metrics.other_samples, c.other_samples);
+  raise_to(metrics.other_bytes, c.other_bytes);
+  raise_to(metrics.skipped_ticks, schedule->skipped());
 
   if (stopping) finished = true;
   if (report.tick % options.match.tick_hz == 0 || finished) {
@@ -262,8 +260,8 @@ void MatchServer::Impl::log_progress(Clock::time_point now) {
   spdlog::info("tick {} | clients {} | tick p50 {:.2f} ms p99 {:.2f} ms max {:.2f} ms | overruns {} | snapshots {:.0f} kbit/s total",
                match.tick_index(), match.client_count(), tick_all.quantile(0.5) * 1e3, tick_all.quantile(0.99) * 1e3,
                tick_all.max() * 1e3, schedule->overruns(),
-               window_s > 0 ? static_cast<double>(c.snapshot_bytes - ledger.bytes_at_last_progress) * 8.0 / 1000.0 / window_s : 0.0);
-  ledger.bytes_at_last_progress = c.snapshot_bytes;
+               window_s > 0 ? static_cast<double>(c.snapshot_bytes - snapshot_bytes_at_last_progress) * 8.0 / 1000.0 / window_s : 0.0);
+  snapshot_bytes_at_last_progress = c.snapshot_bytes;
 }
 
 int MatchServer::run(bool handle_signals) {
@@ -349,13 +347,12 @@ int MatchServer::run(bool handle_signals) {
 
 nlohmann::json MatchServer::summary() const {
   const Impl& m = *impl_;
-  SummaryInputs in{m.match, m.ledger, m.tick_all, m.publish_all, *m.schedule, m.transport.counters(), 0.0, 0, 0, 0.0, {}};
+  SummaryInputs in{m.match, m.ledger, m.tick_all, m.phases, *m.schedule, m.transport.counters(), 0.0, 0, 0, 0.0, {}};
   in.wall_seconds = m.wall_seconds;
   in.push_events = m.push_events_total;
   in.poses = m.poses_total;
   in.view_error_max_m = m.view_error_max_m;
   in.scene_name = m.scene.name;
-  in.phases = &m.phases;
   return make_summary(in);
 }
 

@@ -26,12 +26,10 @@ nlohmann::json make_summary(const SummaryInputs& in) {
   j["skipped_ticks"] = in.schedule.skipped();
   j["tick_ms"] = ms(in.tick);
   j["tick_budget_ms"] = 1000.0 / m.config().tick_hz;
-  j["publish_ms"] = ms(in.publish);
-  if (in.phases) {
-    const auto& p = *in.phases;
-    j["phase_ms"] = {{"drain", ms(p.drain)}, {"apply", ms(p.apply)}, {"ai", ms(p.ai)}, {"step", ms(p.step)},
-                     {"snapshots", ms(p.snapshots)}, {"publish", ms(p.publish)}};
-  }
+  const PhaseStats& ph = in.phases;
+  j["publish_ms"] = ms(ph.publish);
+  j["phase_ms"] = {{"drain", ms(ph.drain)}, {"apply", ms(ph.apply)}, {"ai", ms(ph.ai)}, {"step", ms(ph.step)},
+                   {"snapshots", ms(ph.snapshots)}, {"publish", ms(ph.publish)}};
   j["commands_accepted"] = m.commands_accepted_total();
   std::uint64_t rejected = 0;
   nlohmann::json by_reason = nlohmann::json::object();
@@ -41,7 +39,7 @@ nlohmann::json make_summary(const SummaryInputs& in) {
   }
   j["commands_rejected"] = rejected;
   j["rejected_by_reason"] = by_reason;
-  j["input_queue_dropped"] = const_cast<match::Match&>(m).inputs().dropped();
+  j["input_queue_dropped"] = m.inputs().dropped();
   nlohmann::json clients = nlohmann::json::array();
   for (const auto& [id, r] : in.ledger.records()) {
     clients.push_back({{"client_id", r.client_id}, {"name", r.name}, {"entity", r.entity}, {"joined_tick", r.joined_tick},
@@ -77,12 +75,10 @@ std::string format_summary(const nlohmann::json& s) {
   const auto& t = s["tick_ms"];
   line(fmt::format("tick ms  p50 {:.2f}  p90 {:.2f}  p99 {:.2f}  max {:.2f}  (budget {:.2f})", t["p50"].get<double>(),
                    t["p90"].get<double>(), t["p99"].get<double>(), t["max"].get<double>(), s["tick_budget_ms"].get<double>()));
-  if (s.contains("phase_ms")) {
-    std::string phases;
-    for (const char* name : {"drain", "apply", "ai", "step", "snapshots", "publish"})
-      phases += fmt::format("  {} {:.2f}/{:.2f}", name, s["phase_ms"][name]["p50"].get<double>(), s["phase_ms"][name]["p99"].get<double>());
-    line("phase ms p50/p99" + phases);
-  }
+  std::string phases;
+  for (const char* name : {"drain", "apply", "ai", "step", "snapshots", "publish"})
+    phases += fmt::format("  {} {:.2f}/{:.2f}", name, s["phase_ms"][name]["p50"].get<double>(), s["phase_ms"][name]["p99"].get<double>());
+  line("phase ms p50/p99" + phases);
   line(fmt::format("clients {} ever, {} at end", s["clients"].size(), s["clients_connected_at_end"].get<std::uint32_t>()));
   std::string reasons;
   for (const auto& [k, v] : s["rejected_by_reason"].items())

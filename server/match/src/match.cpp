@@ -87,6 +87,7 @@ Match::Match(const scene::SceneDef& scene, const MatchConfig& config, std::strin
 Match::~Match() = default;
 
 InputQueue& Match::inputs() { return impl_->queue; }
+const InputQueue& Match::inputs() const { return impl_->queue; }
 
 const TickReport& Match::tick(Outbox& out) {
   using clock = std::chrono::steady_clock;

@@ -122,7 +122,8 @@ void Match::Impl::handle_leave(const protocol::JoinRequest& r, std::uint64_t tic
   reply.reason = "left";
   if (was_connected) {
     release(*c);
-    out.client_events.push_back(ClientEvent{ClientEvent::Kind::left, c->id, c->entity.value, c->partition, c->name});
+    out.client_events.push_back(ClientEvent{ClientEvent::Kind::left, c->id, c->entity.value, c->partition, c->name,
+                                                  c->commands_accepted, c->commands_rejected});
     ++report.leaves;
   }
   out.join_replies.push_back(std::move(reply));
@@ -137,7 +138,8 @@ void Match::Impl::apply_timeouts(std::uint64_t tick, Outbox& out) {
       continue;
     }
     release(c);  // removes it from connected_ids: i now names the next client
-    out.client_events.push_back(ClientEvent{ClientEvent::Kind::timed_out, c.id, c.entity.value, c.partition, c.name});
+    out.client_events.push_back(ClientEvent{ClientEvent::Kind::timed_out, c.id, c.entity.value, c.partition, c.name,
+                                                  c.commands_accepted, c.commands_rejected});
     // The reply topic is keyed by nonce and kept for late joiners: tell them the entity is free.
     protocol::JoinReply reply = accepted_reply(c, tick);
     reply.result = protocol::JoinResult::left;

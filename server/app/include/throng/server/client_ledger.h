@@ -27,11 +27,10 @@ class ClientLedger {
   void joined(const match::ClientEvent& e, std::uint64_t tick);
   void departed(const match::ClientEvent& e, std::uint64_t tick);
   void snapshot_published(std::uint32_t client_id, std::size_t poses);
-  // Copies the match's per-client command counts (connected clients only).
+  // Copies the match's per-client command counts for the clients still connected (departed ones
+  // got theirs from their departure event). Allocates: for the end of the match, not every tick.
   void update_commands(const match::Match& match);
   const std::map<std::uint32_t, ClientRecord>& records() const { return records_; }
-
-  std::uint64_t bytes_at_last_progress = 0;  // for the progress line's rate
 
  private:
   std::map<std::uint32_t, ClientRecord> records_;  // ordered by client id: deterministic output

@@ -30,7 +30,7 @@ struct SummaryInputs {
   const match::Match& match;
   const ClientLedger& ledger;
   const DurationStats& tick;
-  const DurationStats& publish;
+  const PhaseStats& phases;
   const TickSchedule& schedule;
   protocol::TransportCounters published;
   double wall_seconds = 0;
@@ -38,7 +38,6 @@ struct SummaryInputs {
   std::uint64_t poses = 0;
   double view_error_max_m = 0;
   std::string scene_name;
-  const PhaseStats* phases = nullptr;
 };
 
 nlohmann::json make_summary(const SummaryInputs& in);

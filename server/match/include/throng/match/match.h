@@ -65,6 +65,9 @@ struct ClientEvent {
   std::uint32_t entity = 0;
   std::string partition;
   std::string name;
+  // left / timed_out: the client's command totals at departure (the match forgets it after).
+  std::uint64_t commands_accepted = 0;
+  std::uint64_t commands_rejected = 0;
 };
 
 // Everything a tick produced for the network. Reused tick to tick (vectors keep capacity).
@@ -103,6 +106,7 @@ class Match {
   Match& operator=(const Match&) = delete;
 
   InputQueue& inputs();
+  const InputQueue& inputs() const;
 
   // Called for each client's snapshot as soon as it is built, on the snapshot worker threads
   // (several at once: it must be thread-safe — the DDS transport is). Lets the server publish
