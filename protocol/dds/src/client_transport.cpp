@@ -94,7 +94,7 @@ void ClientTransport::start(Handlers handlers) {
   dds::Subscriber& sub = c.participant.subscriber();
   c.participant.create_reader(sub, *t.match_info, kMatchInfoProfiles.reader, c.match_info_listener.get());
   c.participant.create_reader(sub, *t.join_reply, kJoinReplyProfiles.reader, c.join_reply_listener.get());
-  c.participant.create_reader(sub, *t.param_reply, kParamProfiles.reader, c.param_reply_listener.get());
+  c.participant.create_reader(sub, *t.param_reply, kParamReplyProfiles.reader, c.param_reply_listener.get());
   c.participant.create_reader(sub, *t.server_stats, kServerStatsProfiles.reader, c.stats_listener.get());
   c.started = true;
 }

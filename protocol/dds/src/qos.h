@@ -24,7 +24,8 @@ inline constexpr TopicProfiles kJoinRequestProfiles{"throng_join_request_writer"
 inline constexpr TopicProfiles kJoinReplyProfiles{"throng_join_reply_writer", "throng_join_reply_reader"};
 inline constexpr TopicProfiles kCommandProfiles{"throng_command_writer", "throng_command_reader"};
 inline constexpr TopicProfiles kSnapshotProfiles{"throng_snapshot_writer", "throng_snapshot_reader"};
-inline constexpr TopicProfiles kParamProfiles{"throng_param_writer", "throng_param_reader"};  // update and reply
+inline constexpr TopicProfiles kParamProfiles{"throng_param_writer", "throng_param_reader"};  // param_update
+inline constexpr TopicProfiles kParamReplyProfiles{"throng_param_reply_writer", "throng_param_reply_reader"};
 inline constexpr TopicProfiles kServerStatsProfiles{"throng_server_stats_writer", "throng_server_stats_reader"};
 inline constexpr const char* kLoopbackParticipantProfile = "throng_loopback_participant";
 

@@ -51,7 +51,7 @@ struct ServerTransport::Impl {
     dds::Publisher& pub = participant.publisher();
     match_info_writer = &participant.create_writer(pub, *t.match_info, kMatchInfoProfiles.writer);
     join_reply_writer = &participant.create_writer(pub, *t.join_reply, kJoinReplyProfiles.writer);
-    param_reply_writer = &participant.create_writer(pub, *t.param_reply, kParamProfiles.writer);
+    param_reply_writer = &participant.create_writer(pub, *t.param_reply, kParamReplyProfiles.writer);
     stats_writer = &participant.create_writer(pub, *t.server_stats, kServerStatsProfiles.writer);
   }
 
