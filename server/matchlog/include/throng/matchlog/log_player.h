@@ -1,0 +1,66 @@
+#pragma once
+// LogPlayer: a re-simulated match positioned at any tick of a log, for everything that watches a
+// log rather than checks it: `throng-replay play` (re-publishes over DDS), `throng-replay seek`,
+// and `throng-view --log` (the browser timeline). One Match, advanced tick by tick from the
+// logged inputs; seek() jumps through the nearest world keyframe at or before the target (or
+// re-simulates from the start when the log has none) and then steps forward.
+//
+// Not thread-safe: one thread drives it. The Match it exposes is only valid until the next
+// seek() (a seek may rebuild it).
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "throng/match/match.h"
+#include "throng/matchlog/log_header.h"
+#include "throng/matchlog/reader.h"
+#include "throng/matchlog/replay.h"
+
+namespace throng::matchlog {
+
+struct PlayerOptions {
+  // Snapshots are what play publishes, so the logged interest settings are used by default
+  // (ResimOptions::exact_interest = true). Viewers that read the world directly may turn it off.
+  ResimOptions resim{.record_push_events = false, .exact_interest = true};
+};
+
+struct SeekResult {
+  std::uint64_t tick = 0;           // where the player now is
+  std::uint64_t keyframe_tick = 0;  // the keyframe it started from (0: from the match start or the current tick)
+  std::uint64_t ticks_simulated = 0;
+  double ms = 0.0;                  // wall time of the seek
+};
+
+class LogPlayer {
+ public:
+  // Opens and scans the log (throws LogError with the reader's message on a bad file).
+  explicit LogPlayer(const std::string& path, PlayerOptions options = {});
+  ~LogPlayer();
+  LogPlayer(const LogPlayer&) = delete;
+  LogPlayer& operator=(const LogPlayer&) = delete;
+
+  const LogHeader& header() const;
+  const LogScan& scan() const;
+  std::uint32_t tick_hz() const;
+  std::uint64_t first_tick() const;  // 1 when the log has ticks, else 0
+  std::uint64_t last_tick() const;   // last tick that can be re-simulated (stops before a gap)
+  std::uint64_t tick() const;        // ticks applied so far: 0 = the match before its first tick
+
+  // Moves to `tick` (clamped to 0..last_tick()). Forward seeks within one keyframe interval
+  // step on from the current position; anything else restarts from the nearest keyframe.
+  SeekResult seek(std::uint64_t tick);
+  // Applies the next logged tick; false (and nothing changes) at last_tick().
+  bool step();
+  // The last step's recomputed hash equalled the logged one (true before any step).
+  bool last_hash_matched() const;
+
+  const match::Match& match() const;
+  const match::Outbox& outbox() const;            // of the last step(): replies, events, snapshots
+  const match::TickReport& last_report() const;   // of the last step()
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace throng::matchlog
