@@ -29,6 +29,8 @@ struct SeekResult {
   std::uint64_t keyframe_tick = 0;  // the keyframe it started from (0: from the match start or the current tick)
   std::uint64_t ticks_simulated = 0;
   double ms = 0.0;                  // wall time of the seek
+  std::uint64_t hash_mismatches = 0;     // ticks simulated by this seek whose hash differed from the log
+  std::uint64_t first_mismatch_tick = 0; // the first of them (0: none)
 };
 
 class LogPlayer {

@@ -38,7 +38,9 @@ class Resimulator {
   // the next tick (a gap in the log cannot be re-simulated across).
   std::uint64_t step(TickRecord& t);
   const match::Match& match() const { return *match_; }
-  const match::TickReport& last_report() const { return *report_; }  // of the last step()
+  const match::TickReport& last_report() const { return *report_; }  // of the last step(); step() first
+  bool stepped() const { return report_ != nullptr; }
+  const match::Outbox& outbox() const { return out_; }  // of the last step(): replies, events, snapshots
   std::uint64_t tick() const;
 
  private:

@@ -1,0 +1,80 @@
+// LogPlayer: a Resimulator positioned anywhere in a log (see log_player.h).
+#include "throng/matchlog/log_player.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include <fmt/format.h>
+
+namespace throng::matchlog {
+
+struct LogPlayer::Impl {
+  explicit Impl(const std::string& path, PlayerOptions o) : reader(path), options(o) {
+    const LogScan& s = reader.scan();
+    last = s.ticks == 0 ? 0 : s.last_tick;
+    if (!s.gaps.empty()) last = std::min(last, s.gaps.front().first_tick - 1);
+    restart();
+  }
+
+  // A fresh Match before its first tick, the reader at tick 1.
+  void restart() {
+    sim.reset();
+    sim = std::make_unique<Resimulator>(reader.header(), options.resim);
+    reader.rewind();
+    matched = true;
+  }
+
+  bool step() {
+    if (sim->tick() >= last) return false;
+    if (!reader.next(rec) || rec.tick != sim->tick() + 1)
+      throw LogError(fmt::format("{}: tick {} is not readable although the scan listed it", reader.path(), sim->tick() + 1));
+    const std::uint64_t expected = rec.state_hash;
+    matched = sim->step(rec) == expected;
+    return true;
+  }
+
+  MatchLogReader reader;
+  PlayerOptions options;
+  std::unique_ptr<Resimulator> sim;
+  std::uint64_t last = 0;
+  TickRecord rec;
+  bool matched = true;
+  match::TickReport empty_report;  // last_report() before any step
+};
+
+LogPlayer::LogPlayer(const std::string& path, PlayerOptions options) : impl_(std::make_unique<Impl>(path, options)) {}
+LogPlayer::~LogPlayer() = default;
+
+const LogHeader& LogPlayer::header() const { return impl_->reader.header(); }
+const LogScan& LogPlayer::scan() const { return impl_->reader.scan(); }
+std::uint32_t LogPlayer::tick_hz() const { return impl_->reader.header().config.tick_hz; }
+std::uint64_t LogPlayer::first_tick() const { return impl_->last == 0 ? 0 : 1; }
+std::uint64_t LogPlayer::last_tick() const { return impl_->last; }
+std::uint64_t LogPlayer::tick() const { return impl_->sim->tick(); }
+
+SeekResult LogPlayer::seek(std::uint64_t target) {
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  Impl& m = *impl_;
+  target = std::min(target, m.last);
+  SeekResult r;
+  if (target < m.sim->tick()) m.restart();  // backwards: from the match start
+  while (m.sim->tick() < target) {
+    m.step();
+    ++r.ticks_simulated;
+    if (!m.matched && r.hash_mismatches++ == 0) r.first_mismatch_tick = m.sim->tick();
+  }
+  r.tick = m.sim->tick();
+  r.ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  return r;
+}
+
+bool LogPlayer::step() { return impl_->step(); }
+bool LogPlayer::last_hash_matched() const { return impl_->matched; }
+const match::Match& LogPlayer::match() const { return impl_->sim->match(); }
+const match::Outbox& LogPlayer::outbox() const { return impl_->sim->outbox(); }
+const match::TickReport& LogPlayer::last_report() const {
+  return impl_->sim->stepped() ? impl_->sim->last_report() : impl_->empty_report;
+}
+
+}  // namespace throng::matchlog
