@@ -12,6 +12,8 @@
 #include <vector>
 
 #include "throng/core/object_id.h"
+#include "match_test_util.h"
+#include "throng/match/match.h"
 #include "throng/match/snapshot_builder.h"
 #include "throng/protocol/codec.h"
 
@@ -76,6 +78,24 @@ TEST(SnapshotBuilderAllocation, IndexAndBuildDoNotAllocateAfterWarmUp) {
   g_counting = false;
   EXPECT_EQ(g_allocations.load(), 0u);
   EXPECT_GT(sent, 60u * 4u * 50u);
+}
+
+// Match::save_checkpoint into a warm buffer (the server writes one every ~2 s on the tick
+// thread): no allocation at all.
+TEST(MatchCheckpointAlloc, SaveDoesNotAllocateWhenWarm) {
+  Match m(test::two_armies(40), test::small_config(), "alloc");
+  Outbox out;
+  m.inputs().push(test::join_request(1, "a"));
+  m.inputs().push(test::join_request(2, "b"));
+  for (int t = 0; t < 40; ++t) m.tick(out);
+  std::vector<std::uint8_t> bytes;
+  m.save_checkpoint(bytes);
+  g_allocations = 0;
+  g_counting = true;
+  for (int i = 0; i < 5; ++i) m.save_checkpoint(bytes);
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 0u);
+  EXPECT_GT(bytes.size(), 1000u);
 }
 
 }  // namespace

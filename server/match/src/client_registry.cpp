@@ -49,4 +49,15 @@ void ClientRegistry::disconnect(std::uint32_t id) {
   if (n != by_nonce_.end() && n->second == id) by_nonce_.erase(n);
 }
 
+void ClientRegistry::restore(std::deque<ClientRecord> records) {
+  records_ = std::move(records);
+  connected_.clear();
+  by_nonce_.clear();
+  for (const ClientRecord& r : records_) {
+    if (!r.connected) continue;
+    connected_.push_back(r.id);  // records are in id order: stays sorted
+    by_nonce_[r.nonce] = r.id;   // a later client with the same nonce wins, as in add()
+  }
+}
+
 }  // namespace throng::match

@@ -54,6 +54,11 @@ class ClientRegistry {
   std::size_t connected_count() const { return connected_.size(); }
   std::uint32_t next_id() const { return static_cast<std::uint32_t>(records_.size()) + 1u; }
 
+  // Checkpoints: every client ever seen, index = id - 1. restore() replaces them and rebuilds the
+  // connected list and the nonce index the same way add() / disconnect() leave them.
+  const std::deque<ClientRecord>& records() const { return records_; }
+  void restore(std::deque<ClientRecord> records);
+
  private:
   std::deque<ClientRecord> records_;  // index = id - 1
   std::vector<std::uint32_t> connected_;  // ascending

@@ -62,6 +62,7 @@ Match::Impl::Impl(const scene::SceneDef& scene_in, const MatchConfig& config_in,
   roster_of_slot = dense_of_slot;  // the roster is in the dense order at construction
   ai.init(w);
   info = build_match_info(MatchInfoSource{scene, table, w, built.scenery_ids, built.body_ids, config, match_id});
+  compute_checkpoint_hashes();
 }
 
 void Match::Impl::follow_dense_order() {
@@ -165,5 +166,7 @@ const std::array<std::uint64_t, kRejectReasonCount>& Match::rejected_by_reason()
 std::uint64_t Match::commands_accepted_total() const { return impl_->accepted_total; }
 const MatchConfig& Match::config() const { return impl_->config; }
 const World& Match::world() const { return impl_->world(); }
+void Match::save_checkpoint(std::vector<std::uint8_t>& out) const { impl_->save_checkpoint(out); }
+void Match::restore_checkpoint(std::span<const std::uint8_t> bytes) { impl_->restore_checkpoint(bytes); }
 
 }  // namespace throng::match

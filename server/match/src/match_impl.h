@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <exception>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -64,6 +65,11 @@ struct Match::Impl {
   // After World::step: the world may have re-sorted its dense arrays (dense_order.h).
   void follow_dense_order();
 
+  // --- checkpoints (match_checkpoint.cpp) ---------------------------------------------------------
+  void save_checkpoint(std::vector<std::uint8_t>& out) const;
+  void restore_checkpoint(std::span<const std::uint8_t> bytes);
+  void compute_checkpoint_hashes();
+
   MatchConfig config;
   std::string match_id;
   scene::SceneDef scene;  // as given, with settings.dt_s = 1 / tick_hz
@@ -94,6 +100,9 @@ struct Match::Impl {
   double player_importance = kDefaultPlayerImportance;
   bool shutting_down = false;
   bool info_dirty = true;           // republish match_info at the next tick (first tick, shutdown)
+  // What a checkpoint must have been taken from (set at construction, match_checkpoint.cpp).
+  std::uint64_t scene_hash = 0;     // parameter table, initial policy, scene name, spawn layout
+  std::uint64_t config_hash = 0;    // MatchConfig fields that change results
 
   // Per body, in the world's dense order, which the World re-sorts every few ticks
   // (follow_dense_order keeps these in step). The match never creates or destroys bodies.

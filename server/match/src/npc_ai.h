@@ -40,6 +40,8 @@
 
 namespace throng {
 class World;
+class ByteWriter;
+class ByteReader;
 }
 
 namespace throng::match {
@@ -92,6 +94,13 @@ class NpcAi {
   // Desired velocities for every body with controlled[i] == 0 (dense order); yaw[i] is updated for
   // them. Returns the number of NPCs that went for an enemy this tick.
   std::uint32_t update(World& world, std::span<const std::uint32_t> controlled, std::span<float> yaw);
+
+  // Checkpoints (npc_ai_state.cpp): the per-body brain (group, formation slot, charged enemy),
+  // the groups (anchors, morale level, last centroids), the faction slots and the tick count.
+  // restore_state replaces this AI's state (n bodies) or throws CheckpointError part-way, so
+  // callers restore into a copy and move it in once everything else has decoded too.
+  void save_state(ByteWriter& w) const;
+  void restore_state(ByteReader& r, std::size_t n);
 
   std::span<const AiGroup> groups() const { return groups_; }
   std::uint32_t group_of(std::size_t dense_index) const { return group_[dense_index]; }

@@ -36,6 +36,7 @@
 #include <algorithm>
 #include <bit>
 #include <cstddef>
+#include <cstring>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -49,6 +50,7 @@
 #include <fmt/format.h>
 
 #include "interest_grid.h"
+#include "throng/core/byte_io.h"
 #include "throng/core/object_id.h"
 #include "throng/protocol/codec.h"
 
@@ -919,6 +921,90 @@ const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_
   st.view_error_max_m = err_max;
   st.view_error_mean_m = err_count ? err_sum / err_count : 0.0;
   return st;
+}
+
+
+// --- checkpoints ----------------------------------------------------------------------------------
+// Per client: id, stamp, then each known entry (index, id) with the client's copy at that index
+// (field by field: the struct has padding), then the pending removals, in their current order.
+// Only records at known indices are saved, the rest restore as empty: every record with a non-zero
+// id is in `known` (a copy is added to known when first sent, and zeroed when it leaves it), and
+// a record with id 0 is never read before it is rewritten (1b sends it to the unknown path, 1d
+// resets it, phase 2 only visits known indices). That keeps a save proportional to what the
+// clients know instead of clients x object indices.
+
+namespace {
+constexpr std::size_t kKnownRecordBytes = 33;  // index, entry id, x, y, z, copy id, seen, sent tick, yaw
+}  // namespace
+
+void SnapshotBuilder::save_state(ByteWriter& w) const {
+  const Impl& m = *impl_;
+  w.put(m.world_unit);
+  w.put(static_cast<std::uint32_t>(m.capacity));
+  w.put(static_cast<std::uint32_t>(m.clients.size()));
+  for (const auto& cp : m.clients) {
+    const Client& c = *cp;
+    w.put(c.client_id);
+    w.put(c.stamp);
+    w.put(static_cast<std::uint32_t>(c.known.size()));
+    std::uint8_t* p = w.grow(c.known.size() * kKnownRecordBytes);
+    for (const KnownEntry& e : c.known) {
+      const ObjectState& o = c.obj[e.index];
+      const std::uint32_t v[8] = {e.index, e.id, static_cast<std::uint32_t>(o.x), static_cast<std::uint32_t>(o.y),
+                                  static_cast<std::uint32_t>(o.z), o.id, o.seen, o.sent_tick};
+      std::memcpy(p, v, sizeof v);
+      p[sizeof v] = o.yaw;
+      p += kKnownRecordBytes;
+    }
+    w.put(static_cast<std::uint32_t>(c.pending.size()));
+    for (const PendingRemoval& pr : c.pending) { w.put(pr.id); w.put(pr.left); }
+  }
+}
+
+void SnapshotBuilder::restore_state(ByteReader& r) {
+  constexpr std::size_t kMaxObjects = std::size_t{ObjectId::kMaxIndex} + 1;
+  const auto world_unit = r.get<std::uint16_t>("snapshot world unit");
+  if (world_unit == 0) r.fail("snapshot world unit 0");
+  const std::size_t capacity = std::max<std::size_t>(impl_->capacity, r.get_count("snapshot capacity", kMaxObjects));
+  std::vector<std::unique_ptr<Client>> clients(r.get_count("snapshot clients", 1u << 20));
+  std::uint32_t previous = 0;
+  for (auto& cp : clients) {
+    cp = std::make_unique<Client>();
+    Client& c = *cp;
+    c.client_id = r.get<std::uint32_t>("snapshot client id");
+    if (c.client_id <= previous) r.fail("snapshot client ids not ascending");
+    previous = c.client_id;
+    c.stamp = r.get<std::uint32_t>("snapshot stamp");
+    c.reserve(capacity);
+    c.known.resize(r.get_count("snapshot known", 2 * capacity + 64));
+    const std::uint8_t* p = r.take(c.known.size() * kKnownRecordBytes, "snapshot known");
+    for (KnownEntry& e : c.known) {
+      std::uint32_t v[8];
+      std::memcpy(v, p, sizeof v);
+      if (v[0] >= capacity) r.fail("snapshot known index beyond the capacity");
+      e.index = v[0];
+      e.id = v[1];
+      ObjectState& o = c.obj[e.index];
+      o.x = static_cast<std::int32_t>(v[2]);
+      o.y = static_cast<std::int32_t>(v[3]);
+      o.z = static_cast<std::int32_t>(v[4]);
+      o.id = v[5];
+      o.seen = v[6];
+      o.sent_tick = v[7];
+      o.yaw = p[sizeof v];
+      p += kKnownRecordBytes;
+    }
+    c.pending.resize(r.get_count("snapshot pending", 4 * capacity + 1024));
+    for (PendingRemoval& pr : c.pending) {
+      pr.id = r.get<std::uint32_t>("snapshot pending");
+      pr.left = r.get<std::uint32_t>("snapshot pending");
+    }
+  }
+  Impl& m = *impl_;
+  m.world_unit = world_unit;
+  m.capacity = capacity;
+  m.clients = std::move(clients);
+  m.indexed = false;  // build() needs this tick's index() first, as after construction
 }
 
 }  // namespace throng::match

@@ -48,6 +48,11 @@ struct BodyStore {
   void for_each_column(F&& f) {
     zip_columns(*this, *this, [&](auto& col, auto&) { f(col); });
   }
+  // Read-only walk (checkpoints): the same column list, nothing is modified.
+  template <class F>
+  void for_each_column(F&& f) const {
+    const_cast<BodyStore*>(this)->for_each_column([&](const auto& col) { f(col); });
+  }
 
   // Rebuilds this store in `order` (new index s holds old body order[s]) using `scratch` as the
   // destination, then swaps: no allocation once scratch has reached the store's size.

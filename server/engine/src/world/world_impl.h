@@ -8,11 +8,16 @@
 #include "broadphase/hier_grid.h"
 #include "broadphase/point_grid.h"
 #include "solver/solver_data.h"
+#include "throng/core/byte_io.h"
 #include "throng/geometry/static_scenery.h"
 #include "throng/params/param_table.h"
 #include "throng/params/push_policy.h"
 #include "throng/world/world.h"
 #include "world/body_store.h"
+
+namespace throng::detail {
+struct WorldState;
+}
 
 namespace throng {
 
@@ -117,8 +122,13 @@ struct World::Impl {
   void finish_tick();
   void reorder_dense();
 
+  // checkpoints (world_checkpoint.cpp)
+  std::uint64_t config_hash() const;
+  void save_state(ByteWriter& w) const;
+  void apply_state(detail::WorldState&& st);  // checks against this world, then commits
+
   // helpers
-  void rebuild_scenery_cells();
+  void rebuild_scenery_cells(double reach);
   bool near_scenery(double x, double y) const;
   double cell0_size();
   double pair_share(std::uint32_t dense_a, std::uint32_t dense_b, double nx, double ny) const;

@@ -69,7 +69,9 @@ void World::Impl::update_morale_counts() {
   const std::size_t n = bodies.size();
   const std::uint32_t period = settings.morale_refresh_ticks;
   const std::uint32_t phase = static_cast<std::uint32_t>(tick % period);
-  if (phase == 0) {
+  // Also when the counts were never started: a policy that turns morale on mid-period (an
+  // operator's change) would otherwise count into empty tables (out of bounds).
+  if (phase == 0 || morale_allies.empty()) {
     morale_allies.assign(params::kMaxGroupId + 1, 0);
     morale_enemies.assign(params::kMaxGroupId + 1, 0);
   }

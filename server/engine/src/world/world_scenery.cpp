@@ -47,13 +47,12 @@ bool grounded_contact(const geom::Aabb& box, double x, double y, double z, doubl
 
 // Cells (scenery_cell_m square) that lie within reach of any fixed shape. Only bodies standing in
 // such a cell are queried against FCL, so a crowd in an open field pays nothing for the scenery.
-void World::Impl::rebuild_scenery_cells() {
+// Reach: a body's radius and margin plus one metre of travel within a tick (step() passes
+// max_body_reach_m + 1 whenever a larger body appears; a restored checkpoint passes the saved reach).
+void World::Impl::rebuild_scenery_cells(double reach) {
   if (scenery_dirty) scenery.build();
   scenery_dirty = false;
   scenery_cells.clear();
-  // Reach: a body's radius and margin plus one metre of travel within a tick; recomputed whenever
-  // a larger body appears (see step()).
-  const double reach = max_body_reach_m + 1.0;
   scenery_reach_m = reach;
   const double inv = 1.0 / scenery_cell_m;
   for (std::uint32_t s = 0; s < scenery.size(); ++s) {

@@ -24,7 +24,7 @@ const StepStats& World::step() {
   w.stats = StepStats{};
   w.stats.tick = w.tick + 1;
   if (w.scenery_dirty || (w.scenery.size() > 0 && w.max_body_reach_m + 1.0 > w.scenery_reach_m)) {
-    w.rebuild_scenery_cells();
+    w.rebuild_scenery_cells(w.max_body_reach_m + 1.0);
   }
 
   auto t = Clock::now();

@@ -30,6 +30,9 @@ enum class Param : std::uint8_t;
 
 namespace throng {
 
+class ByteWriter;
+class ByteReader;
+
 class World {
  public:
   World(const WorldSettings& settings, const params::ParamTable& table, const params::PushPolicy& policy);
@@ -85,6 +88,19 @@ class World {
   const params::GroupTable& groups() const;
   const WorldSettings& settings() const;
   std::span<const PushEvent> push_events() const;
+  // --- checkpoints (layout: server/engine/src/world/CHECKPOINT.md) ---------------------------------
+  // Everything that influences future steps, in the current dense order. A world restored from
+  // it (built from the same settings and scenery) steps bit-identically to the one it was taken
+  // from. save_state(vector) clears `out` first and reuses its capacity (a warm buffer does not
+  // allocate); the ByteWriter form appends one world section. Const: safe beside other readers.
+  void save_state(std::vector<std::uint8_t>& out) const;
+  void save_state(ByteWriter& out) const;
+  // Throws CheckpointError (core/byte_io.h) for truncated or malformed bytes, another version or
+  // a world with other settings / scenery; the world is unchanged then. push_events() and the
+  // last StepStats are empty afterwards (they describe a step, not the state).
+  void restore_state(std::span<const std::uint8_t> bytes);  // exactly one world section
+  void restore_state(ByteReader& in);                       // reads one section, leaves the rest
+
   // Fixed scenery access for metrics and tools (penetration of a capsule into scenery).
   double scenery_max_penetration(std::size_t dense_index) const;
 

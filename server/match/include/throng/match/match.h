@@ -14,9 +14,11 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
+#include "throng/core/byte_io.h"
 #include "throng/match/input_queue.h"
 #include "throng/match/match_config.h"
 #include "throng/protocol/messages.h"
@@ -27,6 +29,10 @@ class World;
 }
 
 namespace throng::match {
+
+// A checkpoint that cannot be restored here: truncated or malformed bytes, another format version,
+// or taken from a match with another scene or config (the message says which).
+using CheckpointError = throng::CheckpointError;
 
 // Why a command was rejected. Each rejected command changes nothing in the world.
 enum class RejectReason : std::uint8_t {
@@ -136,6 +142,19 @@ class Match {
   std::uint64_t commands_accepted_total() const;
   const MatchConfig& config() const;
   const World& world() const;
+
+  // --- checkpoints (layout: server/match/src/CHECKPOINT.md) ------------------------------------
+  // Writes the match's complete simulation state into `out` (cleared first; its capacity is
+  // reused, so a warm buffer does not allocate). const: safe beside other const readers, not
+  // during tick().
+  void save_checkpoint(std::vector<std::uint8_t>& out) const;
+  // Replaces this match's simulation state with `bytes`, taken from a Match built from the same
+  // scene and config. Afterwards tick() gives bit-identical results (state hashes, outbox,
+  // snapshots) to the match the checkpoint was taken from. Throws CheckpointError for truncated or
+  // malformed bytes, wrong magic/version, or a checkpoint of another scene/config; the match is
+  // unchanged then. Inputs queued but not yet drained stay queued; the snapshot sink and the
+  // match id are this match's own.
+  void restore_checkpoint(std::span<const std::uint8_t> bytes);
 
  private:
   struct Impl;

@@ -57,6 +57,11 @@
 #include "throng/match/match_config.h"
 #include "throng/protocol/messages.h"
 
+namespace throng {
+class ByteWriter;
+class ByteReader;
+}  // namespace throng
+
 namespace throng::match {
 
 // The bodies of this tick, dense (any order). id = ObjectId value; yaw in radians.
@@ -121,6 +126,14 @@ class SnapshotBuilder {
                           Scratch& scratch);
   // The same with the builder's own Scratch: one thread at a time.
   const BuildStats& build(std::uint32_t client_id, double camera_x, double camera_y, protocol::Snapshot& out);
+
+  // Checkpoints: each client's copy of every object it was sent (that decides what its future
+  // snapshots contain), its build stamp, known list and pending removals, and the whole-world
+  // unit. Not saved: the tick's index (index() rebuilds it before any build) and Scratch.
+  // restore_state replaces every client; it throws CheckpointError (builder unchanged) on bad bytes.
+  // Not concurrent with build().
+  void save_state(ByteWriter& w) const;
+  void restore_state(ByteReader& r);
 
   const InterestConfig& config() const { return config_; }
   bool has_client(std::uint32_t client_id) const;

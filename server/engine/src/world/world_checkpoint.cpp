@@ -1,0 +1,301 @@
+// World checkpoints: everything that influences future ticks, written field by field (layout in
+// world/CHECKPOINT.md), and restored so that step() continues bit-identically.
+//
+// Saved: tick, solver iteration budget (runtime-settable), the slot table (generations, kinds,
+// dense references) and the LIFO free list, fixed objects' parameters, the scenery-cell reach,
+// every BodyStore column in the current dense order (the 16-tick spatial re-sort changes
+// iteration order and therefore floating-point results) including the warm-start cache and the
+// coefficient cache with its dirty flags, per-body parameters, cameras, groups (morale level is
+// the hysteresis state), the morale counts of the running refresh period, the policy and its
+// version.
+// Not saved, because step() rebuilds them from the above before reading them (scratch): the
+// broadphase grid and its order, solver arrays, pair/plane/contact lists, start/moved positions,
+// pile-relief list, morale point index, camera_xyz, the reorder scratch stores, the median
+// scratch, `dyn` (recomputed from the policy: restore forces it), the scenery cells (rebuilt from
+// the saved reach) and StepStats/push_events (describe the last step only; empty after restore).
+// Not saved because it is configuration, checked by the config hash instead: WorldSettings other
+// than iterations, the scenery shapes, the parameter table.
+#include <cstring>
+#include <exception>
+#include <string>
+
+#include "throng/world/world.h"
+#include "world/param_codec.h"
+#include "world/world_impl.h"
+#include "world/world_state.h"
+
+namespace throng {
+namespace {
+
+constexpr std::size_t kMaxSlots = std::size_t{ObjectId::kMaxIndex} + 1;
+constexpr std::size_t kMaxCameras = 1u << 20;
+
+// FNV-1a over the bytes of each value: a dozen lines, no allocation (XXH3's streaming state
+// allocates, and save_state must not).
+struct Fnv {
+  std::uint64_t h = 14695981039346656037ull;
+  template <class T>
+  void add(const T& v) {
+    unsigned char b[sizeof(T)];
+    std::memcpy(b, &v, sizeof(T));
+    for (unsigned char c : b) h = (h ^ c) * 1099511628211ull;
+  }
+};
+
+std::string hex(std::uint64_t v) {
+  static const char* digits = "0123456789abcdef";
+  std::string s(16, '0');
+  for (int i = 15; i >= 0; --i, v >>= 4) s[static_cast<std::size_t>(i)] = digits[v & 15];
+  return s;
+}
+
+}  // namespace
+
+std::uint64_t World::Impl::config_hash() const {
+  Fnv f;
+  const WorldSettings& s = settings;  // every field but iterations (set_iterations is state)
+  f.add(s.dt_s); f.add(s.contact_margin_m); f.add(s.converged_pen_over_radius);
+  f.add(static_cast<std::uint8_t>(s.record_push_events)); f.add(static_cast<std::uint8_t>(s.warm_start));
+  f.add(s.blocked_motion_carry); f.add(s.conflict_share_limit); f.add(s.max_candidates_per_body);
+  f.add(s.cell_size_m); f.add(s.morale_radius_m); f.add(s.morale_refresh_ticks);
+  f.add(static_cast<std::uint64_t>(scenery.size()));
+  for (ObjectId id : fixed_ids) f.add(id.value);
+  return f.h;
+}
+
+void World::Impl::save_state(ByteWriter& w) const {
+  const std::size_t n = bodies.size();
+  w.put(detail::kWorldStateMagic);
+  w.put(detail::kWorldStateVersion);
+  w.put(config_hash());
+  w.put(tick);
+  w.put(settings.iterations);
+  w.put(static_cast<std::uint32_t>(n));
+  w.put(static_cast<std::uint32_t>(slots.size()));
+  w.put(static_cast<std::uint32_t>(fixed_params.size()));
+  // Slots as three columns (Slot has padding).
+  std::uint8_t* p = w.grow(slots.size() * 9);
+  for (const Slot& s : slots) { std::memcpy(p, &s.generation, 4); p += 4; }
+  for (const Slot& s : slots) *p++ = static_cast<std::uint8_t>(s.kind);
+  for (const Slot& s : slots) { std::memcpy(p, &s.ref, 4); p += 4; }
+  w.put_array(free_slots);
+  detail::put_params(w, fixed_params);
+  w.put(static_cast<std::uint8_t>(scenery_dirty ? 1 : 0));
+  w.put(max_body_reach_m);
+  w.put(scenery_reach_m);
+  bodies.for_each_column([&](const auto& col) { w.put_array(col); });
+  // Warm-start entries: only the first warm_count of each body's kWarmSlots are ever read.
+  std::uint32_t warm_total = 0;
+  for (std::size_t i = 0; i < n; ++i) warm_total += bodies.warm_count[i];
+  w.put(warm_total);
+  p = w.grow(std::size_t{warm_total} * 12);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::uint32_t k = 0; k < bodies.warm_count[i]; ++k) {
+      const detail::WarmEntry& e = bodies.warm[i * detail::kWarmSlots + k];
+      std::memcpy(p, &e.partner, 4);
+      std::memcpy(p + 4, &e.lambda, 8);
+      p += 12;
+    }
+  }
+  detail::put_params(w, body_params);
+  w.put(static_cast<std::uint32_t>(cameras.size()));
+  for (const Vec3& c : cameras) { w.put(c.x); w.put(c.y); w.put(c.z); }
+  w.put(static_cast<std::uint8_t>(all_coefficients_dirty ? 1 : 0));
+  detail::put_groups(w, groups);
+  // Morale counts of the running period, sparse (the tables have 65,536 entries, few non-zero).
+  const bool present = !morale_allies.empty();
+  w.put(static_cast<std::uint8_t>(present ? 1 : 0));
+  std::uint32_t nonzero = 0;
+  if (present) {
+    for (std::size_t g = 0; g < morale_allies.size(); ++g) nonzero += (morale_allies[g] | morale_enemies[g]) != 0 ? 1u : 0u;
+  }
+  w.put(nonzero);
+  if (present) {
+    for (std::uint32_t g = 0; g < morale_allies.size(); ++g) {
+      if ((morale_allies[g] | morale_enemies[g]) == 0) continue;
+      w.put(g);
+      w.put(morale_allies[g]);
+      w.put(morale_enemies[g]);
+    }
+  }
+  w.put(policy_version);
+  detail::put_policy(w, policy);
+}
+
+namespace detail {
+
+WorldState decode_world_state(ByteReader& r) {
+  WorldState st;
+  const auto magic = r.get<std::uint32_t>("world magic");
+  if (magic != kWorldStateMagic) r.fail("not a world state section (magic " + hex(magic) + ")");
+  const auto version = r.get<std::uint32_t>("world version");
+  if (version != kWorldStateVersion) {
+    r.fail("world state version " + std::to_string(version) + " (this build reads " +
+           std::to_string(kWorldStateVersion) + ")");
+  }
+  st.config_hash = r.get<std::uint64_t>("world config hash");
+  st.tick = r.get<std::uint64_t>("world tick");
+  st.iterations = r.get<std::uint32_t>("iterations");
+  const std::uint32_t n = r.get_count("body count", kMaxSlots);
+  const std::uint32_t ns = r.get_count("slot count", kMaxSlots);
+  const std::uint32_t nf = r.get_count("fixed count", kMaxSlots);
+  st.slot_generation.resize(ns);
+  st.slot_kind.resize(ns);
+  st.slot_ref.resize(ns);
+  const std::uint8_t* p = r.take(std::size_t{ns} * 9, "slots");
+  if (ns != 0) {
+    std::memcpy(st.slot_generation.data(), p, std::size_t{ns} * 4);
+    std::memcpy(st.slot_kind.data(), p + std::size_t{ns} * 4, ns);
+    std::memcpy(st.slot_ref.data(), p + std::size_t{ns} * 5, std::size_t{ns} * 4);
+  }
+  r.get_array(st.free_slots, "free slots", ns);
+  get_params(r, nf, st.fixed_params, "fixed params");
+  st.scenery_dirty = r.get_bool("scenery dirty");
+  st.max_body_reach_m = r.get<double>("max body reach");
+  st.scenery_reach_m = r.get<double>("scenery reach");
+  st.bodies.for_each_column([&](auto& col) { r.get_array_exact(col, "body column", n); });
+  st.bodies.warm.assign(std::size_t{n} * kWarmSlots, WarmEntry{0, 0.0});
+  std::uint32_t warm_total = 0;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (st.bodies.warm_count[i] > kWarmSlots) r.fail("warm count " + std::to_string(st.bodies.warm_count[i]) + " > 8");
+    warm_total += st.bodies.warm_count[i];
+  }
+  if (r.get<std::uint32_t>("warm total") != warm_total) r.fail("warm entry total disagrees with the warm counts");
+  p = r.take(std::size_t{warm_total} * 12, "warm entries");
+  for (std::uint32_t i = 0; i < n; ++i) {
+    for (std::uint32_t k = 0; k < st.bodies.warm_count[i]; ++k) {
+      WarmEntry& e = st.bodies.warm[std::size_t{i} * kWarmSlots + k];
+      std::memcpy(&e.partner, p, 4);
+      std::memcpy(&e.lambda, p + 4, 8);
+      p += 12;
+    }
+  }
+  get_params(r, n, st.body_params, "body params");
+  st.cameras.resize(r.get_count("cameras", kMaxCameras));
+  for (Vec3& c : st.cameras) {
+    c.x = r.get<double>("camera");
+    c.y = r.get<double>("camera");
+    c.z = r.get<double>("camera");
+  }
+  st.all_coefficients_dirty = r.get_bool("coefficients dirty");
+  st.groups = get_groups(r);
+  st.morale_counts_present = r.get_bool("morale counts present");
+  const std::uint32_t nonzero = r.get_count("morale counts", params::kMaxGroupId + 1);
+  if (st.morale_counts_present) {
+    st.morale_allies.assign(params::kMaxGroupId + 1, 0);
+    st.morale_enemies.assign(params::kMaxGroupId + 1, 0);
+  } else if (nonzero != 0) {
+    r.fail("morale counts listed but marked absent");
+  }
+  for (std::uint32_t k = 0; k < nonzero; ++k) {
+    const auto g = r.get<std::uint32_t>("morale group");
+    if (g > params::kMaxGroupId) r.fail("morale group " + std::to_string(g));
+    st.morale_allies[g] = r.get<std::uint32_t>("morale allies");
+    st.morale_enemies[g] = r.get<std::uint32_t>("morale enemies");
+  }
+  st.policy_version = r.get<std::uint64_t>("policy version");
+  st.policy = get_policy(r);
+
+  // Consistency: every body's id names a body slot that points back at it; slots point inside
+  // their arrays; the free list holds distinct free slots. What step() indexes with is checked here.
+  for (std::uint32_t s = 0; s < ns; ++s) {
+    const std::uint8_t kind = st.slot_kind[s];
+    if (kind > 2) r.fail("slot " + std::to_string(s) + " has kind " + std::to_string(kind));
+    if (kind == 1 && st.slot_ref[s] >= n) r.fail("slot " + std::to_string(s) + " refers to body " + std::to_string(st.slot_ref[s]) + " of " + std::to_string(n));
+    if (kind == 2 && st.slot_ref[s] >= nf) r.fail("slot " + std::to_string(s) + " refers to fixed shape " + std::to_string(st.slot_ref[s]));
+  }
+  for (std::uint32_t d = 0; d < n; ++d) {
+    const ObjectId id = st.bodies.id[d];
+    const std::uint32_t s = id.index();
+    if (!id.valid() || s >= ns || st.slot_kind[s] != 1 || st.slot_ref[s] != d ||
+        (st.slot_generation[s] & ObjectId::kGenerationMask) != id.generation()) {
+      r.fail("body " + std::to_string(d) + " (id " + std::to_string(id.value) + ") does not match its slot");
+    }
+  }
+  std::vector<std::uint8_t> listed(ns, 0);
+  for (std::uint32_t s : st.free_slots) {
+    if (s >= ns || st.slot_kind[s] != 0 || listed[s] != 0) r.fail("free list entry " + std::to_string(s) + " is not a distinct free slot");
+    listed[s] = 1;
+  }
+  return st;
+}
+
+}  // namespace detail
+
+void World::Impl::apply_state(detail::WorldState&& st) {
+  // Checks against this world first: nothing below the commit line may throw.
+  const std::uint64_t mine = config_hash();
+  if (st.config_hash != mine) {
+    throw CheckpointError("world checkpoint is from another configuration (world settings or scenery differ): hash " +
+                          hex(st.config_hash) + ", this world " + hex(mine));
+  }
+  if (st.fixed_params.size() != fixed_ids.size()) {
+    throw CheckpointError("world checkpoint has " + std::to_string(st.fixed_params.size()) + " fixed objects, this world " +
+                          std::to_string(fixed_ids.size()));
+  }
+  for (std::size_t k = 0; k < fixed_ids.size(); ++k) {
+    const std::uint32_t s = fixed_ids[k].index();
+    if (s >= st.slot_kind.size() || st.slot_kind[s] != 2 || st.slot_ref[s] != k ||
+        (st.slot_generation[s] & ObjectId::kGenerationMask) != fixed_ids[k].generation()) {
+      throw CheckpointError("world checkpoint: fixed object " + std::to_string(fixed_ids[k].value) + " is not in its slot");
+    }
+  }
+  WorldSettings s = settings;
+  s.iterations = st.iterations;
+  params::GroupTable g(groups.morale_config());
+  try {
+    s.validate();
+    for (const auto& [id, group] : st.groups) g.set(id, group);
+  } catch (const std::exception& e) {
+    throw CheckpointError(std::string("world checkpoint does not validate: ") + e.what());
+  }
+
+  // Commit.
+  settings = s;
+  tick = st.tick;
+  slots.resize(st.slot_kind.size());
+  for (std::size_t i = 0; i < slots.size(); ++i) {
+    slots[i] = Slot{st.slot_generation[i], static_cast<SlotKind>(st.slot_kind[i]), st.slot_ref[i]};
+  }
+  free_slots = std::move(st.free_slots);
+  fixed_params = std::move(st.fixed_params);
+  bodies = std::move(st.bodies);
+  body_params = std::move(st.body_params);
+  cameras = std::move(st.cameras);
+  all_coefficients_dirty = st.all_coefficients_dirty;
+  groups = std::move(g);
+  morale_allies = std::move(st.morale_allies);
+  morale_enemies = std::move(st.morale_enemies);
+  policy = std::move(st.policy);
+  policy_version = st.policy_version;
+  dyn.policy_version = ~policy_version;  // derived from the policy: recomputed at the next step
+  max_body_reach_m = st.max_body_reach_m;
+  if (st.scenery_dirty) {
+    scenery_dirty = true;  // the next step builds the scenery and its cells, as the saved world would have
+    scenery_reach_m = st.scenery_reach_m;
+    scenery_cells.clear();
+  } else {
+    rebuild_scenery_cells(st.scenery_reach_m);
+  }
+  events.clear();
+  stats = StepStats{};
+}
+
+void World::save_state(ByteWriter& out) const { impl_->save_state(out); }
+
+void World::save_state(std::vector<std::uint8_t>& out) const {
+  ByteWriter w(out, ByteWriter::kOverwrite);
+  impl_->save_state(w);
+  w.finish();
+}
+
+void World::restore_state(ByteReader& in) { impl_->apply_state(detail::decode_world_state(in)); }
+
+void World::restore_state(std::span<const std::uint8_t> bytes) {
+  ByteReader r(bytes);
+  detail::WorldState st = detail::decode_world_state(r);
+  if (r.remaining() != 0) r.fail(std::to_string(r.remaining()) + " bytes after the world state");
+  impl_->apply_state(std::move(st));
+}
+
+}  // namespace throng

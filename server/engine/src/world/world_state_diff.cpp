@@ -1,0 +1,91 @@
+// diff_world_states: decode both sections, pair the bodies by object id, compare field by field.
+#include "throng/world/world_state_diff.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+
+#include "throng/params/object_params.h"
+#include "world/world_state.h"
+
+namespace throng {
+namespace {
+
+detail::WorldState decode_exact(std::span<const std::uint8_t> bytes) {
+  ByteReader r(bytes);
+  detail::WorldState st = detail::decode_world_state(r);
+  if (r.remaining() != 0) r.fail(std::to_string(r.remaining()) + " bytes after the world state");
+  return st;
+}
+
+// Dense index of the body with this id, or -1.
+std::int64_t dense_of(const detail::WorldState& st, ObjectId id) {
+  const std::uint32_t s = id.index();
+  if (s >= st.slot_kind.size() || st.slot_kind[s] != 1) return -1;
+  const std::uint32_t d = st.slot_ref[s];
+  return st.bodies.id[d] == id ? static_cast<std::int64_t>(d) : -1;
+}
+
+void add(std::string& what, const char* name, double a, double b) {
+  // Bitwise: the checkpoints must be bit-identical, and NaN == NaN must count as equal.
+  if (std::memcmp(&a, &b, sizeof a) == 0) return;
+  if (!what.empty()) what += "; ";
+  char buf[96];
+  std::snprintf(buf, sizeof buf, " %.17g vs %.17g", a, b);
+  what += name;
+  what += buf;
+}
+
+std::string compare(const detail::WorldState& A, std::size_t i, const detail::WorldState& B, std::size_t j) {
+  std::string w;
+  const detail::BodyStore& a = A.bodies;
+  const detail::BodyStore& b = B.bodies;
+  add(w, "x", a.x[i], b.x[j]); add(w, "y", a.y[i], b.y[j]); add(w, "z", a.z[i], b.z[j]);
+  add(w, "desired_vx", a.vx[i], b.vx[j]); add(w, "desired_vy", a.vy[i], b.vy[j]); add(w, "desired_vz", a.vz[i], b.vz[j]);
+  add(w, "vx", a.ax[i], b.ax[j]); add(w, "vy", a.ay[i], b.ay[j]); add(w, "vz", a.az[i], b.az[j]);
+  add(w, "push_x", a.px[i], b.px[j]); add(w, "push_y", a.py[i], b.py[j]);
+  add(w, "radius", a.r[i], b.r[j]); add(w, "half_height", a.hh[i], b.hh[j]);
+  add(w, "grounded", a.grounded[i], b.grounded[j]);
+  add(w, "resistance", a.resistance[i], b.resistance[j]);
+  add(w, "morale_level", a.morale_level[i], b.morale_level[j]);
+  add(w, "warm_count", a.warm_count[i], b.warm_count[j]);
+  if (a.warm_count[i] == b.warm_count[j]) {
+    for (std::uint32_t k = 0; k < a.warm_count[i]; ++k) {
+      const detail::WarmEntry& ea = a.warm[i * detail::kWarmSlots + k];
+      const detail::WarmEntry& eb = b.warm[j * detail::kWarmSlots + k];
+      add(w, "warm.partner", ea.partner, eb.partner);
+      add(w, "warm.lambda", ea.lambda, eb.lambda);
+    }
+  }
+  const params::ObjectParams& pa = A.body_params[i];
+  const params::ObjectParams& pb = B.body_params[j];
+  for (std::size_t k = 0; k < params::kParamCount; ++k) {
+    const auto p = static_cast<params::Param>(k);
+    const std::string name = "params." + std::string(params::param_name(p));
+    add(w, name.c_str(), pa.get(p), pb.get(p));
+  }
+  return w;
+}
+
+}  // namespace
+
+std::vector<BodyDifference> diff_world_states(std::span<const std::uint8_t> a_bytes, std::span<const std::uint8_t> b_bytes,
+                                              std::size_t max) {
+  const detail::WorldState a = decode_exact(a_bytes);
+  const detail::WorldState b = decode_exact(b_bytes);
+  std::vector<BodyDifference> out;
+  for (std::size_t i = 0; i < a.bodies.size(); ++i) {
+    const ObjectId id = a.bodies.id[i];
+    const std::int64_t j = dense_of(b, id);
+    std::string what = j < 0 ? "only in the first checkpoint" : compare(a, i, b, static_cast<std::size_t>(j));
+    if (!what.empty()) out.push_back({id.value, std::move(what)});
+  }
+  for (std::size_t j = 0; j < b.bodies.size(); ++j) {
+    if (dense_of(a, b.bodies.id[j]) < 0) out.push_back({b.bodies.id[j].value, "only in the second checkpoint"});
+  }
+  std::sort(out.begin(), out.end(), [](const BodyDifference& x, const BodyDifference& y) { return x.object_id < y.object_id; });
+  if (out.size() > max) out.resize(max);
+  return out;
+}
+
+}  // namespace throng

@@ -1,0 +1,207 @@
+// World::save_state / restore_state: a restored world steps bit-identically to the original, on
+// every built-in scene and across the 16-tick dense re-sort; bad bytes throw CheckpointError and
+// leave the world unchanged; diff_world_states names exactly the perturbed bodies.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "throng/core/byte_io.h"
+#include "throng/params/object_params.h"
+#include "throng/params/push_policy.h"
+#include "throng/scene/build_scene.h"
+#include "throng/scene/builtin_scenes.h"
+#include "throng/scene/scale.h"
+#include "throng/world/world.h"
+#include "throng/world/world_state_diff.h"
+
+namespace throng {
+namespace {
+
+using Bytes = std::vector<std::uint8_t>;
+
+scene::SceneDef small(const std::string& name) {
+  scene::SceneDef s = scene::builtin_scene(name);
+  return name == "one_cell" ? s : scene::scale_scene(s, 400);
+}
+
+void run(scene::BuiltScene& b, int ticks) {
+  for (int t = 0; t < ticks; ++t) {
+    b.driver.apply(b.world);
+    b.world.step();
+  }
+}
+
+// Steers every body towards the origin (for worlds whose bodies no longer match the driver's).
+void steer_in(World& w) {
+  for (std::size_t d = 0; d < w.body_count(); ++d) {
+    w.set_desired_velocity(w.id_at(d), Vec3{-0.1 * w.pos_x()[d], -0.1 * w.pos_y()[d], 0.0});
+  }
+}
+
+// Runs the original to `k`, restores its state into a freshly built copy, then steps both and
+// compares every tick's hash and the final state bytes.
+void expect_continuation(const scene::SceneDef& def, int k, int more) {
+  scene::BuiltScene a = scene::build_scene(def);
+  run(a, k);
+  Bytes saved;
+  a.world.save_state(saved);
+  scene::BuiltScene b = scene::build_scene(def);
+  b.world.restore_state(saved);
+  Bytes again;
+  b.world.save_state(again);
+  ASSERT_EQ(saved, again) << "round trip changed the bytes";
+  ASSERT_EQ(a.world.state_hash(), b.world.state_hash());
+  for (int t = 0; t < more; ++t) {
+    a.driver.apply(a.world);
+    b.driver.apply(b.world);
+    a.world.step();
+    b.world.step();
+    ASSERT_EQ(a.world.state_hash(), b.world.state_hash()) << def.name << ": k " << k << ", tick " << a.world.tick();
+  }
+  a.world.save_state(saved);
+  b.world.save_state(again);
+  EXPECT_EQ(saved, again);
+}
+
+TEST(WorldCheckpoint, BuiltinScenesContinueBitIdentically) {
+  for (const std::string& name : scene::builtin_scene_names()) {
+    SCOPED_TRACE(name);
+    for (int k : {0, 1, 15, 16, 17, 40}) expect_continuation(small(name), k, 60);
+  }
+}
+
+// Destroyed and re-created bodies (free-list reuse, generations), runtime parameters, policy and
+// group morale changes, cameras and the iteration budget are all part of the state.
+TEST(WorldCheckpoint, RuntimeChangesAreCarried) {
+  const scene::SceneDef def = small("mixed");
+  auto mutate = [](scene::BuiltScene& b) {
+    World& w = b.world;
+    w.destroy_body(b.body_ids[3]);
+    w.destroy_body(b.body_ids[7]);
+    BodyDef d;
+    d.position = {0.5, 0.5, 0.9};
+    d.radius_m = 0.45;
+    w.create_body(d);  // reuses slot 7 (LIFO)
+    w.set_param(b.body_ids[10], params::Param::weight_kg, 400.0);
+    w.set_policy(params::PushPolicy(params::PushMode::ratio, {params::Term{params::TermInput::weight_kg, 1.0, 50.0, false},
+                                                              params::Term{params::TermInput::camera_distance_m, 1.0, 100.0, false}},
+                                    {}));
+    const Vec3 cams[] = {{1.0, 2.0, 1.7}, {-5.0, 0.0, 1.7}};
+    w.set_cameras(cams);
+    w.set_iterations(12);
+  };
+  scene::BuiltScene a = scene::build_scene(def);
+  run(a, 10);
+  mutate(a);
+  for (int t = 0; t < 7; ++t) {  // k = 17: just after a re-sort
+    steer_in(a.world);
+    a.world.step();
+  }
+  Bytes saved;
+  a.world.save_state(saved);
+  scene::BuiltScene b = scene::build_scene(def);
+  b.world.restore_state(saved);
+  EXPECT_EQ(b.world.body_count(), a.world.body_count());
+  EXPECT_EQ(b.world.settings().iterations, 12u);
+  EXPECT_EQ(b.world.params(a.body_ids[10]).weight_kg, 400.0);
+  EXPECT_FALSE(b.world.is_body(a.body_ids[3]));
+  for (int t = 0; t < 80; ++t) {
+    steer_in(a.world);
+    steer_in(b.world);
+    a.world.step();
+    b.world.step();
+    ASSERT_EQ(a.world.state_hash(), b.world.state_hash()) << "tick " << a.world.tick();
+  }
+  // The next created body gets the same id in both (slot 3 next on the free list).
+  BodyDef d;
+  d.position = {3.0, 3.0, 0.9};
+  EXPECT_EQ(a.world.create_body(d), b.world.create_body(d));
+}
+
+TEST(WorldCheckpoint, SaveReusesAWarmBuffer) {
+  scene::BuiltScene a = scene::build_scene(small("crush"));
+  run(a, 20);
+  Bytes out;
+  a.world.save_state(out);
+  const std::uint8_t* data = out.data();
+  const std::size_t size = out.size();
+  a.world.save_state(out);
+  EXPECT_EQ(out.data(), data);  // same storage: no reallocation
+  EXPECT_EQ(out.size(), size);
+}
+
+TEST(WorldCheckpoint, BadBytesThrowAndLeaveTheWorldUnchanged) {
+  const scene::SceneDef def = small("obstacles");
+  scene::BuiltScene a = scene::build_scene(def);
+  run(a, 20);
+  Bytes saved;
+  a.world.save_state(saved);
+  scene::BuiltScene b = scene::build_scene(def);
+  run(b, 3);
+  Bytes before;
+  b.world.save_state(before);
+  auto expect_error = [&](const Bytes& bytes, const std::string& needle) {
+    try {
+      b.world.restore_state(bytes);
+      ADD_FAILURE() << "no error for " << needle;
+    } catch (const CheckpointError& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+    Bytes after;
+    b.world.save_state(after);
+    ASSERT_EQ(after, before) << "a failed restore changed the world";
+  };
+  // Truncated at many offsets (every one in the header, then spread over the body).
+  for (std::size_t cut = 0; cut < saved.size(); cut += cut < 256 ? 1 : 97) {
+    expect_error(Bytes(saved.begin(), saved.begin() + static_cast<std::ptrdiff_t>(cut)), "checkpoint");
+  }
+  Bytes bad = saved;
+  bad[0] ^= 0xFF;
+  expect_error(bad, "magic");
+  bad = saved;
+  bad[4] = 9;
+  expect_error(bad, "version");
+  bad = saved;
+  bad.push_back(0);
+  expect_error(bad, "bytes after");
+  // Another configuration (other settings) is refused with its reason.
+  scene::SceneDef other = def;
+  other.settings.contact_margin_m = 0.07;
+  scene::BuiltScene c = scene::build_scene(other);
+  try {
+    c.world.restore_state(saved);
+    ADD_FAILURE() << "restored into another configuration";
+  } catch (const CheckpointError& e) {
+    EXPECT_NE(std::string(e.what()).find("another configuration"), std::string::npos) << e.what();
+  }
+}
+
+TEST(WorldCheckpoint, DiffNamesExactlyThePerturbedBodies) {
+  const scene::SceneDef def = small("crush");
+  scene::BuiltScene a = scene::build_scene(def);
+  scene::BuiltScene b = scene::build_scene(def);
+  run(a, 5);
+  run(b, 5);
+  Bytes sa, sb;
+  a.world.save_state(sa);
+  b.world.save_state(sb);
+  EXPECT_TRUE(diff_world_states(sa, sb).empty());
+  const ObjectId p = b.body_ids[17], q = b.body_ids[2];
+  b.world.set_param(p, params::Param::weight_kg, 123.0);
+  b.world.set_position(q, b.world.position(q) + Vec3{0.0, 0.25, 0.0});
+  b.world.save_state(sb);
+  const std::vector<BodyDifference> d = diff_world_states(sa, sb);
+  ASSERT_EQ(d.size(), 2u);
+  EXPECT_EQ(d[0].object_id, std::min(p.value, q.value));
+  EXPECT_EQ(d[1].object_id, std::max(p.value, q.value));
+  const BodyDifference& dp = d[0].object_id == p.value ? d[0] : d[1];
+  const BodyDifference& dq = d[0].object_id == q.value ? d[0] : d[1];
+  EXPECT_NE(dp.what.find("params.weight_kg"), std::string::npos) << dp.what;
+  EXPECT_NE(dq.what.find("y "), std::string::npos) << dq.what;
+  EXPECT_EQ(diff_world_states(sa, sb, 1).size(), 1u);
+  EXPECT_THROW(diff_world_states(sa, Bytes(sb.begin(), sb.begin() + 40)), CheckpointError);
+}
+
+}  // namespace
+}  // namespace throng

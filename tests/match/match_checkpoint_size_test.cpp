@@ -1,0 +1,50 @@
+// Size and speed of a checkpoint of the server's default match (built-in battle scaled to 6,000
+// bodies, 30 Hz) with a few clients: printed for the record, asserted only loosely (no wall-time
+// limits in tests; the figures are in the report). Save must be mostly memcpy.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdio>
+#include <vector>
+
+#include "match_test_util.h"
+#include "throng/match/match.h"
+#include "throng/scene/builtin_scenes.h"
+#include "throng/scene/scale.h"
+#include "throng/world/world.h"
+
+namespace throng::match {
+namespace {
+
+TEST(MatchCheckpointSize, BattleAtSixThousandBodies) {
+  using clock = std::chrono::steady_clock;
+  MatchConfig config;  // the server's defaults
+  Match m(scene::scale_scene(scene::builtin_scene("battle"), 6000), config, "size");
+  Outbox out;
+  for (std::uint64_t n = 1; n <= 8; ++n) m.inputs().push(test::join_request(n, "bot"));
+  for (int t = 0; t < 60; ++t) m.tick(out);
+  std::vector<std::uint8_t> bytes;
+  m.save_checkpoint(bytes);  // warm the buffer
+  constexpr int kSaves = 200;
+  const auto t0 = clock::now();
+  for (int i = 0; i < kSaves; ++i) m.save_checkpoint(bytes);
+  const auto t1 = clock::now();
+  Match fresh(scene::scale_scene(scene::builtin_scene("battle"), 6000), config, "fresh");
+  constexpr int kRestores = 5;
+  const auto t2 = clock::now();
+  for (int i = 0; i < kRestores; ++i) fresh.restore_checkpoint(bytes);
+  const auto t3 = clock::now();
+  const double save_us = std::chrono::duration<double, std::micro>(t1 - t0).count() / kSaves;
+  const double restore_us = std::chrono::duration<double, std::micro>(t3 - t2).count() / kRestores;
+  std::printf("checkpoint: %zu bodies, %zu bytes (%.1f B/body), save %.1f us, restore %.1f us\n", m.world().body_count(),
+              bytes.size(), static_cast<double>(bytes.size()) / static_cast<double>(m.world().body_count()), save_us,
+              restore_us);
+  RecordProperty("bytes", static_cast<int>(bytes.size()));
+  RecordProperty("save_us", static_cast<int>(save_us));
+  RecordProperty("restore_us", static_cast<int>(restore_us));
+  EXPECT_EQ(fresh.state_hash(), m.state_hash());
+  EXPECT_LT(bytes.size(), 6000u * 500u);  // a few hundred bytes per body, not kilobytes
+}
+
+}  // namespace
+}  // namespace throng::match

@@ -1,0 +1,284 @@
+// Match::save_checkpoint / restore_checkpoint: a match restored at tick K into a fresh Match of the
+// same scene and config produces, fed the same inputs, the same state hash and the same outbox
+// (join/param replies, client events, every snapshot's bytes, match-info republishes) every tick.
+// Also: round trip, warm-buffer save, errors (truncation, magic, version, other scene / config)
+// that leave the match unchanged, and diff_checkpoints.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "match_test_util.h"
+#include "throng/match/checkpoint_diff.h"
+#include "throng/match/match.h"
+#include "throng/scene/builtin_scenes.h"
+#include "throng/scene/scale.h"
+#include "throng/world/world.h"
+
+namespace throng::match {
+namespace {
+
+using Bytes = std::vector<std::uint8_t>;
+
+scene::SceneDef small_battle() { return scene::scale_scene(scene::builtin_scene("battle"), 300); }
+
+// Everything the network would be told, as text (so a failure shows what differs).
+std::string outbox_text(const Outbox& out, const TickReport& r) {
+  std::ostringstream s;
+  s << "tick " << r.tick << " hash " << r.state_hash << " info " << out.match_info_changed << "\n";
+  for (const auto& j : out.join_replies) {
+    s << "join " << j.client_nonce << ' ' << static_cast<int>(j.result) << ' ' << j.reason << ' ' << j.client_id << ' '
+      << j.entity << ' ' << j.snapshot_partition << ' ' << j.tick << ' ' << int{j.faction} << "\n";
+  }
+  for (const auto& p : out.param_replies) {
+    s << "param " << p.request_id << ' ' << p.ok << ' ' << p.error << ' ' << p.param_version << ' ' << p.tick << "\n";
+  }
+  for (const auto& e : out.client_events) {
+    s << "event " << static_cast<int>(e.kind) << ' ' << e.client_id << ' ' << e.entity << ' ' << e.partition << ' '
+      << e.name << ' ' << e.commands_accepted << ' ' << e.commands_rejected << "\n";
+  }
+  for (std::size_t k = 0; k < out.snapshot_count; ++k) {
+    const protocol::Snapshot& n = out.snapshots[k];
+    s << "snap " << n.client_id << ' ' << n.tick << ' ' << n.last_applied_sequence << ' ' << n.last_applied_tick << ' '
+      << n.entity << ' ' << n.entity_x << ' ' << n.entity_y << ' ' << n.entity_z << ' ' << n.entity_yaw << ' '
+      << n.origin_x_mm << ' ' << n.origin_y_mm << ' ' << n.unit_mm << ' ' << n.objects_in_view << " |";
+    for (auto v : n.id_codes) s << ' ' << v;
+    s << " |";
+    for (std::size_t i = 0; i < n.x.size(); ++i) s << ' ' << n.x[i] << ',' << n.y[i] << ',' << n.z[i] << ',' << int{n.yaw[i]};
+    s << " |";
+    for (auto v : n.removed) s << ' ' << v;
+    s << "\n";
+  }
+  return s.str();
+}
+
+// The inputs of every tick: joins, commands (some rejected, some over the rate limit), operator
+// parameter changes (weight, faction of a client's entity, a new policy), a leave and a client that
+// goes silent (times out). Commands depend only on the tick and on what the driver has learnt from
+// join replies, so a copy of the driver continues exactly like the original.
+struct Driver {
+  std::map<std::uint32_t, std::uint32_t> entity;  // client id -> entity
+  std::map<std::uint32_t, std::uint32_t> seq;
+
+  void push(Match& m, std::uint64_t t) {
+    if (t >= 2 && t <= 7) m.inputs().push(test::join_request(1000 + t, "bot" + std::to_string(t)));
+    if (t == 150) m.inputs().push(test::join_request(2000, "late"));  // after a leave: gets a fresh id
+    if (t == 120) m.inputs().push(test::leave_request(1005, 4));
+    std::mt19937_64 rng(t * 7919);
+    std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+    for (const auto& [c, e] : entity) {
+      if (c == 5 && t > 60) continue;  // goes silent: times out 150 ticks later
+      if (rng() % 3 == 0) continue;
+      const std::uint32_t count = 1 + static_cast<std::uint32_t>(rng() % 6);
+      for (std::uint32_t k = 0; k < count; ++k) {
+        protocol::Command cmd = test::command(c, e, ++seq[c], 0.7f * unit(rng), 0.7f * unit(rng));
+        cmd.facing_rad = 3.0f * unit(rng);
+        cmd.camera_x = 10.0f * unit(rng);
+        cmd.camera_y = 10.0f * unit(rng);
+        if (rng() % 7 == 0) cmd.actions = protocol::kActionSprint;
+        if (rng() % 11 == 0) cmd.actions = protocol::kActionBrace;
+        if (rng() % 13 == 0) cmd.move_x = 3.0f;          // rejected
+        if (rng() % 17 == 0) cmd.sequence = seq[c] - 1;  // stale / duplicate
+        m.inputs().push(std::move(cmd));
+      }
+    }
+    protocol::ParamUpdate u;
+    u.request_id = t;
+    if (t == 30 && entity.count(1)) {
+      u.entity = entity[1];
+      u.param = "weight_kg";
+      u.value = 300.0;
+      m.inputs().push(std::move(u));
+    } else if (t == 45 && entity.count(2)) {
+      u.entity = entity[2];
+      u.param = "faction";  // the AI regroups it
+      u.value = 7.0;
+      m.inputs().push(std::move(u));
+    } else if (t == 70) {
+      u.policy_json = R"({"mode": "ratio", "terms": [{"param": "weight", "scale": 50}, {"param": "camera_distance_m", "scale": 200}, {"param": "morale", "scale": 20}]})";
+      m.inputs().push(std::move(u));
+    } else if (t == 90) {
+      u.entity = 999999;  // rejected
+      u.param = "weight_kg";
+      m.inputs().push(std::move(u));
+    }
+  }
+  void learn(const Outbox& out) {
+    for (const auto& j : out.join_replies) {
+      if (j.result == protocol::JoinResult::accepted) entity[j.client_id] = j.entity;
+    }
+    for (const auto& e : out.client_events) {
+      if (e.kind != ClientEvent::Kind::joined) entity.erase(e.client_id);
+    }
+  }
+};
+
+const TickReport& step(Match& m, Driver& d, Outbox& out) {
+  d.push(m, m.tick_index() + 1);
+  const TickReport& r = m.tick(out);
+  d.learn(out);
+  if (r.tick == 330) m.begin_shutdown();
+  return r;
+}
+
+TEST(MatchCheckpoint, RestoredMatchContinuesBitIdentically) {
+  const std::vector<std::uint64_t> ks = {1, 15, 16, 17, 31, 32, 33, 61, 125, 200, 335};
+  constexpr std::uint64_t kMore = 210;
+  const MatchConfig config = test::small_config();
+  // Reference run: its outbox every tick, and a checkpoint (with the driver) at every K.
+  Match a(small_battle(), config, "a");
+  Outbox out;
+  Driver da;
+  std::vector<std::string> expected;
+  std::map<std::uint64_t, std::pair<Bytes, Driver>> saved;
+  while (a.tick_index() < ks.back() + kMore) {
+    const TickReport& r = step(a, da, out);
+    expected.push_back(outbox_text(out, r));
+    if (std::find(ks.begin(), ks.end(), r.tick) != ks.end()) {
+      Bytes bytes;
+      a.save_checkpoint(bytes);
+      saved[r.tick] = {bytes, da};
+    }
+  }
+  EXPECT_GE(a.client_count(), 3u);
+  EXPECT_GT(a.commands_accepted_total(), 300u);
+
+  for (std::uint64_t k : ks) {
+    SCOPED_TRACE("checkpoint at tick " + std::to_string(k));
+    Match b(small_battle(), config, "b");
+    b.restore_checkpoint(saved[k].first);
+    Bytes again;
+    b.save_checkpoint(again);
+    ASSERT_EQ(again, saved[k].first) << "round trip changed the bytes";
+    ASSERT_EQ(b.tick_index(), k);
+    Driver db = saved[k].second;
+    Outbox ob;
+    for (std::uint64_t t = k + 1; t <= k + kMore; ++t) {
+      const TickReport& r = step(b, db, ob);
+      ASSERT_EQ(outbox_text(ob, r), expected[t - 1]) << "tick " << t;
+    }
+  }
+}
+
+TEST(MatchCheckpoint, SaveIsAllocationFreeOnAWarmBufferAndStable) {
+  Match a(small_battle(), test::small_config(), "a");
+  Outbox out;
+  Driver d;
+  for (int t = 0; t < 40; ++t) step(a, d, out);
+  Bytes first, second;
+  a.save_checkpoint(first);
+  const std::uint8_t* data = first.data();
+  a.save_checkpoint(first);
+  EXPECT_EQ(first.data(), data);  // warm: the storage was reused
+  a.save_checkpoint(second);
+  EXPECT_EQ(first, second);       // saving changes nothing
+}
+
+class MatchCheckpointErrors : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    Driver d;
+    Outbox out;
+    for (int t = 0; t < 20; ++t) step(source, d, out);
+    source.save_checkpoint(saved);
+    for (int t = 0; t < 5; ++t) step(target, d2, out);
+    target.save_checkpoint(before);
+  }
+  // Restoring `bytes` into target throws a CheckpointError mentioning `needle`; target unchanged.
+  void expect_error(Match& m, const Bytes& bytes, const std::string& needle) {
+    Bytes was;
+    m.save_checkpoint(was);
+    try {
+      m.restore_checkpoint(bytes);
+      ADD_FAILURE() << "no error, expected one about " << needle;
+    } catch (const CheckpointError& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+    Bytes now;
+    m.save_checkpoint(now);
+    ASSERT_EQ(now, was) << "a failed restore changed the match";
+  }
+  Match source{small_battle(), test::small_config(), "s"};
+  Match target{small_battle(), test::small_config(), "t"};
+  Driver d2;
+  Bytes saved, before;
+};
+
+TEST_F(MatchCheckpointErrors, TruncatedAtManyOffsets) {
+  for (std::size_t cut = 0; cut < saved.size(); cut += cut < 300 ? 1 : 211) {
+    expect_error(target, Bytes(saved.begin(), saved.begin() + static_cast<std::ptrdiff_t>(cut)), "checkpoint");
+  }
+  // Still usable afterwards: the real checkpoint restores.
+  target.restore_checkpoint(saved);
+  EXPECT_EQ(target.tick_index(), 20u);
+}
+
+TEST_F(MatchCheckpointErrors, WrongMagicVersionAndTrailingBytes) {
+  Bytes bad = saved;
+  bad[1] ^= 0x40;
+  expect_error(target, bad, "magic");
+  bad = saved;
+  bad[4] = 2;
+  expect_error(target, bad, "version");
+  bad = saved;
+  bad.push_back(1);
+  expect_error(target, bad, "bytes after");
+  bad = saved;
+  bad[40] ^= 0xFF;  // first byte of the world section's magic (after the 36-byte header and its length)
+  expect_error(target, bad, "world state");
+}
+
+TEST_F(MatchCheckpointErrors, OtherSceneOrConfig) {
+  Match fewer(scene::scale_scene(scene::builtin_scene("battle"), 200), test::small_config(), "f");
+  expect_error(fewer, saved, "300 bodies, this match 200");
+  Match other_scene(test::two_armies(150), test::small_config(), "o");  // also 300 bodies
+  expect_error(other_scene, saved, "another scene: scene hash");
+  MatchConfig cfg = test::small_config();
+  cfg.interest.radius_m = 20.0;
+  Match other_config(small_battle(), cfg, "c");
+  expect_error(other_config, saved, "another config");
+  // worker_threads does not change results: allowed.
+  cfg = test::small_config();
+  cfg.worker_threads = 1;
+  Match one_thread(small_battle(), cfg, "w");
+  EXPECT_NO_THROW(one_thread.restore_checkpoint(saved));
+}
+
+TEST(MatchCheckpointDiff, FindsExactlyThePerturbedObject) {
+  // Armies far apart, bodies not touching: a weight change moves nobody in one tick.
+  const scene::SceneDef s = test::two_armies(20, 60.0, 10.0);
+  Match a(s, test::small_config(), "a");
+  Match b(s, test::small_config(), "b");
+  Outbox out;
+  for (int t = 0; t < 3; ++t) {
+    a.tick(out);
+    b.tick(out);
+  }
+  Bytes sa, sb;
+  a.save_checkpoint(sa);
+  b.save_checkpoint(sb);
+  EXPECT_TRUE(diff_checkpoints(sa, sb).empty());
+  const std::uint32_t victim = a.world().id_at(11).value;
+  protocol::ParamUpdate u;
+  u.request_id = 1;
+  u.entity = victim;
+  u.param = "weight_kg";
+  u.value = 160.0;
+  b.inputs().push(std::move(u));
+  a.tick(out);
+  b.tick(out);
+  a.save_checkpoint(sa);
+  b.save_checkpoint(sb);
+  const std::vector<BodyDifference> d = diff_checkpoints(sa, sb);
+  ASSERT_EQ(d.size(), 1u);
+  EXPECT_EQ(d[0].object_id, victim);
+  EXPECT_NE(d[0].what.find("params.weight_kg 80 vs 160"), std::string::npos) << d[0].what;
+  EXPECT_THROW(diff_checkpoints(sa, Bytes(sb.begin(), sb.begin() + 30)), CheckpointError);
+}
+
+}  // namespace
+}  // namespace throng::match
