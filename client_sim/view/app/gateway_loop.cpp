@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include "display_host.h"
 #include "throng/protocol/dds_transport.h"
 #include "throng/view/gateway.h"
 #include "throng/view/page_input.h"
@@ -70,12 +71,6 @@ class InputSlot {
 
 std::string error_json(InputError e) {
   return fmt::format(R"({{"type":"error","reason":"{}"}})", to_string(e));
-}
-
-std::string display_host(const std::string& bind) {
-  if (bind == "0.0.0.0" || bind == "127.0.0.1") return "127.0.0.1";
-  if (bind == "::" || bind == "::1") return "[::1]";
-  return bind.find(':') != std::string::npos ? "[" + bind + "]" : bind;
 }
 
 }  // namespace
@@ -223,7 +218,9 @@ int run_gateway(const ViewOptions& o, const std::atomic<bool>& stop) {
       std::array<std::uint64_t, kInputErrorCount> errors{};
       input.read(in, in_at, errors);
 
-      if (applied && web->sessions() > 0) {
+      // The page protocol promises the match first: no frames before a MatchInfo arrived (it can
+      // reach us after the join reply and the first snapshots).
+      if (applied && web->sessions() > 0 && gateway.has_match()) {
         FrameExtras extras;
         extras.input_errors = errors;
         extras.pages = web->sessions();
