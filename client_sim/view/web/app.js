@@ -1,6 +1,9 @@
 // Throng view: draws the gateway's stream top-down and sends the keyboard/mouse as input.
 // Messages from the gateway (WebSocket /ws, JSON text): "match" (scenery, roster, bounds), "frame"
 // (poses at the snapshot rate, measured latency/bandwidth), "error" (our input was rejected).
+// Replay mode (match.mode === "replay", throng-view --log): frames carry every body and a
+// "replay" timeline; "timeline" messages update it alone (e.g. a seek starting). The page sends
+// play/pause/toggle/speed/seek/focus instead of input, and no keyboard ever moves anything.
 // World coordinates: metres, x right, y up; the canvas flips y.
 'use strict';
 (() => {
@@ -21,7 +24,9 @@
     zoom: 16, center: { x: 0, y: 0 }, panned: false, showShapes: false,
     keys: new Set(), facing: 0, mouse: null, aimWithMouse: false, drag: null,
     drawn: 0, drawnObjects: 0, frameAt: 0, sent: 0, errors: 0, lastError: null,
+    replay: null, followId: 0, scrubbing: false, lastSeekSent: 0, fitted: false,
   };
+  const isReplay = () => !!(view.match && view.match.mode === 'replay');
 
   // --- connection ---------------------------------------------------------------------------
   function connect() {
@@ -33,13 +38,22 @@
       let m;
       try { m = JSON.parse(ev.data); } catch { return; }
       if (m.type === 'match') setMatch(m);
-      else if (m.type === 'frame') { view.frame = m; view.frames++; view.frameAt = performance.now(); }
+      else if (m.type === 'frame') {
+        view.frame = m; view.frames++; view.frameAt = performance.now();
+        if (m.replay) setTimeline(m.replay);
+      } else if (m.type === 'timeline') setTimeline(m);
       else if (m.type === 'error') { view.errors++; view.lastError = m.reason; }
     };
   }
 
   function setMatch(m) {
     view.match = m;
+    const replay = m.mode === 'replay';
+    $('timeline').hidden = !replay;
+    $('help').hidden = replay;
+    $('help-replay').hidden = !replay;
+    document.body.classList.toggle('replay', replay);
+    $('s-self-label').textContent = replay ? 'camera' : 'you';
     view.roster.clear();
     const r = m.roster;
     for (let i = 0; i < r.id.length; i++) {
@@ -55,6 +69,11 @@
     const f = view.frame;
     if (!f) return null;
     const o = f.objects;
+    if (isReplay()) {  // the followed character, if any
+      if (!view.followId) return null;
+      for (let i = 0; i < o.length; i += 4) if (o[i] === view.followId) return { x: o[i + 1], y: o[i + 2], yaw: o[i + 3] };
+      return null;
+    }
     for (let i = 0; i < o.length; i += 4) if (o[i] === f.entity) return { x: o[i + 1], y: o[i + 2], yaw: o[i + 3] };
     return f.self;
   }
@@ -80,7 +99,14 @@
     return msg;
   }
 
+  function send(msg) {
+    if (!view.connected || view.ws.readyState !== WebSocket.OPEN) return false;
+    view.ws.send(JSON.stringify(msg));
+    return true;
+  }
+
   function sendInput() {
+    if (!view.match || isReplay()) return;  // a replay has nothing to control
     if (!view.connected || view.ws.readyState !== WebSocket.OPEN) return;
     view.ws.send(JSON.stringify(currentInput()));
     view.sent++;
@@ -88,6 +114,7 @@
 
   addEventListener('keydown', (e) => {
     if (e.ctrlKey || e.metaKey || e.altKey) return;
+    if (isReplay()) { replayKey(e); return; }
     if (e.code === 'KeyC' && !e.repeat) { view.showShapes = !view.showShapes; $('shapes').checked = view.showShapes; }
     if (e.code === 'KeyF') follow();
     if (MOVE_KEYS[e.code] || e.code === 'Space') e.preventDefault();
@@ -100,6 +127,68 @@
   $('shapes').addEventListener('change', (e) => { view.showShapes = e.target.checked; });
   $('follow').addEventListener('click', follow);
   function follow() { view.panned = false; }
+
+  // --- replay: timeline, play/pause, speed, seek, follow a character -------------------------
+  function mmss(ticks, hz) {
+    const s = Math.floor(ticks / Math.max(1, hz));
+    return `${Math.floor(s / 60)}:${String(s % 60).padStart(2, '0')}`;
+  }
+
+  function setTimeline(t) {
+    view.replay = t;
+    const scrub = $('scrub');
+    scrub.max = String(t.last_tick);
+    if (!view.scrubbing) scrub.value = String(t.tick);
+    $('s-tick').textContent = t.tick;
+    $('t-label').textContent = `tick ${t.tick} / ${t.last_tick} · ${mmss(t.tick, t.tick_hz)} / ${mmss(t.last_tick, t.tick_hz)}`;
+    $('play').textContent = t.playing ? '❚❚' : '▶';
+    const speed = $('speed');
+    if (document.activeElement !== speed && Number(speed.value) !== t.speed) speed.value = String(t.speed);
+    $('t-state').textContent = t.seeking ? 'seeking…' : (t.at_end && !t.playing ? 'end' : (t.playing ? '' : 'paused'));
+  }
+
+  function seekTo(tick, final) {
+    const now = performance.now();
+    if (!final && now - view.lastSeekSent < 60) return;  // dragging: ~15 seeks a second is plenty
+    view.lastSeekSent = now;
+    send({ type: 'seek', tick: Number(tick) });
+  }
+
+  function setFollow(id) {
+    view.followId = id;
+    view.panned = !id;
+    send({ type: 'focus', id });
+  }
+
+  function replayKey(e) {
+    const t = view.replay;
+    if (e.target && e.target.tagName === 'SELECT') return;
+    if (e.code === 'Space') { e.preventDefault(); if (!e.repeat) send({ type: 'toggle' }); }
+    else if (e.code === 'KeyC' && !e.repeat) { view.showShapes = !view.showShapes; $('shapes').checked = view.showShapes; }
+    else if (e.code === 'Escape') setFollow(0);
+    else if (t && (e.code === 'ArrowLeft' || e.code === 'ArrowRight')) {
+      e.preventDefault();
+      seekTo(Math.max(0, Math.min(t.last_tick, t.tick + (e.code === 'ArrowLeft' ? -1 : 1) * t.tick_hz)), true);
+    }
+  }
+
+  $('play').addEventListener('click', () => { send({ type: 'toggle' }); canvas.focus(); });
+  $('speed').addEventListener('change', (e) => { send({ type: 'speed', speed: Number(e.target.value) }); canvas.focus(); });
+  const scrub = $('scrub');
+  scrub.addEventListener('pointerdown', () => { view.scrubbing = true; });
+  scrub.addEventListener('input', () => { view.scrubbing = true; seekTo(scrub.value, false); });
+  scrub.addEventListener('change', () => { seekTo(scrub.value, true); view.scrubbing = false; canvas.focus(); });
+  addEventListener('pointerup', () => { if (view.scrubbing) { seekTo(scrub.value, true); view.scrubbing = false; } });
+
+  // A replay opens on the whole battlefield.
+  function fitBounds() {
+    const b = view.match.bounds;
+    if (!(b[2] > b[0] && b[3] > b[1])) return;
+    view.center = { x: (b[0] + b[2]) / 2, y: (b[1] + b[3]) / 2 };
+    view.zoom = Math.min(200, Math.max(1, 0.9 * Math.min(canvas.clientWidth / (b[2] - b[0]), canvas.clientHeight / (b[3] - b[1]))));
+    view.panned = true;
+    view.fitted = true;
+  }
 
   // --- camera: follow, zoom, pan ------------------------------------------------------------
   function toWorld(px, py) {
@@ -121,7 +210,13 @@
     if (e.button === 0) view.drag = { x: e.offsetX, y: e.offsetY, moved: false };
     canvas.focus();
   });
-  addEventListener('mouseup', () => { view.drag = null; });
+  addEventListener('mouseup', (e) => {
+    const d = view.drag;
+    view.drag = null;
+    if (!d || d.moved || !isReplay() || e.target !== canvas) return;
+    const c = hovered(view.lastList || [], { x: e.offsetX, y: e.offsetY });
+    setFollow(c ? c.id : 0);  // a click on the ground frees the camera
+  });
   canvas.addEventListener('mousemove', (e) => {
     view.mouse = { x: e.offsetX, y: e.offsetY };
     view.aimWithMouse = true;
@@ -215,7 +310,7 @@
         ctx.lineTo(c.x + Math.cos(c.yaw) * c.r, c.y + Math.sin(c.yaw) * c.r);
         ctx.stroke();
       }
-      if (c.id === f.entity) {
+      if (c.id === f.entity || (c.id === view.followId && isReplay())) {
         ctx.beginPath();
         ctx.arc(c.x, c.y, c.r + 3 * px, 0, 2 * Math.PI);
         ctx.lineWidth = 3 * px;
@@ -239,9 +334,10 @@
     return list;
   }
 
-  function hovered(list) {
-    if (!view.mouse) return null;
-    const w = toWorld(view.mouse.x, view.mouse.y);
+  function hovered(list, at) {
+    const p = at || view.mouse;
+    if (!p) return null;
+    const w = toWorld(p.x, p.y);
     let best = null, bestD = Infinity;
     for (const c of list) {
       const d = Math.hypot(c.x - w.x, c.y - w.y);
@@ -254,12 +350,16 @@
     const tip = $('tooltip');
     if (!c) { tip.hidden = true; return; }
     const i = c.info;
-    const you = c.id === view.frame.entity;  // the roster is from match start: it says npc for taken-over bodies
-    tip.textContent = `#${c.id}${you ? ' (you)' : ''}\n` +
+    const you = !isReplay() && c.id === view.frame.entity;  // the roster is from match start: it says npc for taken-over bodies
+    const p = isReplay() && view.frame.focus && view.frame.focus.id === c.id ? view.frame.focus : null;
+    tip.textContent = `#${c.id}${you ? ' (you)' : ''}${isReplay() && c.id === view.followId ? ' (followed)' : ''}\n` +
       (i ? `${i.archetype} · ${you ? 'player' : i.type} · faction ${i.faction}\nradius ${i.radius.toFixed(2)} m · half height ${i.halfHeight.toFixed(2)} m\n`
          : 'not in the roster\n') +
       `at (${c.x.toFixed(2)}, ${c.y.toFixed(2)}) facing ${(c.yaw * 180 / Math.PI).toFixed(0)}°\n` +
-      'push ratios: per pair, computed on the server only';
+      (p ? `weight ${p.weight_kg} kg · importance ${p.importance} · equipment ${p.equipment_level}\n` +
+           `softness ${p.softness} · speed ${p.speed_mps} m/s · hp ${p.hp} · group ${p.group_id}`
+         : (isReplay() ? 'click to follow (and see its parameters)' : '')) +
+      (isReplay() ? '' : 'push ratios: per pair, computed on the server only');
     tip.style.left = `${view.mouse.x + 14}px`;
     tip.style.top = `${view.mouse.y + 14}px`;
     tip.hidden = false;
@@ -271,9 +371,10 @@
     ctx.setTransform(1, 0, 0, 1, 0, 0);
     ctx.fillStyle = BACKGROUND;
     ctx.fillRect(0, 0, canvas.width, canvas.height);
+    if (view.match && isReplay() && !view.fitted) fitBounds();
     const self = selfPose();
     if (self && !view.panned) { view.center.x = self.x; view.center.y = self.y; }
-    $('follow').hidden = !view.panned;
+    $('follow').hidden = !view.panned || isReplay();
     if (!view.match) { requestAnimationFrame(draw); return; }
     const px = 1 / view.zoom;  // one CSS pixel in metres
     worldTransform(dpr);
@@ -287,7 +388,7 @@
     let list = [];
     if (f) {
       list = drawCharacters(f, px);
-      if (view.showShapes && view.match.interest_radius_m > 0) {  // what the server sends us
+      if (view.showShapes && view.match.interest_radius_m > 0 && f.camera) {  // what the server sends us
         ctx.beginPath();
         ctx.arc(f.camera.x, f.camera.y, view.match.interest_radius_m, 0, 2 * Math.PI);
         ctx.setLineDash([8 * px, 6 * px]);
@@ -298,6 +399,7 @@
       }
     }
     view.drawn = list.length;
+    view.lastList = list;
     view.drawnObjects = f ? f.objects.length / 4 : 0;
     ctx.setTransform(1, 0, 0, 1, 0, 0);
     showTooltip(hovered(list));
@@ -310,16 +412,22 @@
     const status = $('status');
     const ended = (f && f.ended) || (view.match && view.match.ended);
     const stale = f && performance.now() - view.frameAt > 2000;
-    let text = 'live';
+    let text = isReplay() ? 'replay' : 'live';
     if (!view.connected) text = 'gateway disconnected';
+    else if (isReplay()) text = view.replay && view.replay.seeking ? 'replay · seeking…' : 'replay';
     else if (ended) text = 'match ended';
     else if (!f) text = 'waiting for the server…';
     else if (stale) text = 'no snapshots from the server';
     if (view.match && f) text += ` · ${view.match.scene}`;
     status.textContent = text;
-    status.className = text.startsWith('live') ? '' : 'bad';
+    status.className = text.startsWith('live') || text.startsWith('replay') ? '' : 'bad';
     if (!f) return;
     $('s-tick').textContent = f.tick;
+    if (isReplay()) {
+      $('s-objects').textContent = `${view.drawn} drawn (log: ${f.in_view})`;
+      $('s-self').textContent = view.followId ? `following #${view.followId}` : 'free camera';
+      return;
+    }
     $('s-latency').textContent = f.latency_ms === null ? '–' : `${f.latency_ms.toFixed(0)} ms`;
     $('s-kbps').textContent = `${f.kbps.toFixed(1)} kbit/s`;
     $('s-objects').textContent = `${view.drawn} drawn (server: ${f.in_view})`;
@@ -341,7 +449,24 @@
         sent: view.sent, errors: view.errors, last_error: view.lastError, panned: view.panned,
         camera: f ? f.camera : null, zoom: view.zoom, show_shapes: view.showShapes,
         tooltip: $('tooltip').hidden ? null : $('tooltip').textContent,
+        mode: view.match ? (view.match.mode || 'live') : null, replay: view.replay, follow: view.followId,
+        status: $('status').textContent, timeline: $('timeline').hidden ? null : $('t-label').textContent,
+        focus: f ? (f.focus || null) : null,
       };
+    },
+    // Where a body of the newest frame is on the page, in CSS pixels (for clicking it).
+    screenOf(id) {
+      const p = this.positions()[id];
+      if (!p) return null;
+      return { x: canvas.clientWidth / 2 + (p[0] - view.center.x) * view.zoom,
+               y: canvas.clientHeight / 2 - (p[1] - view.center.y) * view.zoom };
+    },
+    // The newest frame's bodies as {id: [x, y]} (replay: every body of the re-simulated world).
+    positions() {
+      const f = view.frame, out = {};
+      if (!f) return out;
+      for (let i = 0; i < f.objects.length; i += 4) out[f.objects[i]] = [f.objects[i + 1], f.objects[i + 2]];
+      return out;
     },
     // Canvas pixels painted in a faction colour (fills are drawn in exactly these colours).
     factionPixels() {
