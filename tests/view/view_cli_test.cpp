@@ -79,7 +79,7 @@ TEST(ViewCli, BadPageInputIsRejectedAndNeverForwarded) {
   WsClient ws("127.0.0.1", *port, "/ws");
   const auto first = ws.read(10s);
   ASSERT_TRUE(first);
-  EXPECT_NE(first->find(R"("type":"match")"), std::string::npos) << "the match comes first";
+  EXPECT_NE(first->find(R"("type":"match")"), std::string::npos) << "the match comes first: " << first->substr(0, 200);
 
   ws.send("not json at all");
   EXPECT_TRUE(got_error(ws, "not_json"));
@@ -109,7 +109,9 @@ TEST(ViewCli, BadPageInputIsRejectedAndNeverForwarded) {
     counted = f["input_errors_total"] == 8 && f["input_errors"]["out_of_range"] == 3;
   }
   EXPECT_TRUE(counted);
-  EXPECT_NE(read_file(dir / "view.err").find("rejected"), std::string::npos);
+  // The loop logs after it broadcast the frame that counted them: wait for the line.
+  EXPECT_TRUE(wait_until([&] { return read_file(dir / "view.err").find("rejected") != std::string::npos; }, 5s))
+      << read_file(dir / "view.err");
 
   view.signal(SIGINT);
   const auto code = view.wait(15s);

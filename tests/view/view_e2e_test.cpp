@@ -14,6 +14,7 @@
 #include <fstream>
 #include <thread>
 
+#include "chromium.h"
 #include "test_support.h"
 
 namespace throng::view {
@@ -23,48 +24,8 @@ using namespace testing;
 
 const std::string kServer = THRONG_BIN_DIR "/throng-server";
 const std::string kView = THRONG_BIN_DIR "/throng-view";
-const std::string kChromium = "/usr/bin/chromium";
 constexpr int kDomain = 203;
 
-
-struct Chromium {
-  std::unique_ptr<ChildProcess> process;
-  std::uint16_t devtools_port = 0;
-};
-
-// Starts headless Chromium on about:blank and reads its DevTools port (bounded).
-Chromium start_chromium(const TempDir& dir) {
-  Chromium c;
-  std::vector<std::string> args{"--headless=new",
-                                "--remote-debugging-port=0",
-                                "--user-data-dir=" + (dir / "chrome-profile").string(),
-                                "--no-first-run",
-                                "--no-default-browser-check",
-                                "--disable-dev-shm-usage",
-                                "--mute-audio",
-                                "--window-size=1280,800"};
-  if (::geteuid() == 0) args.push_back("--no-sandbox");  // Chromium refuses to run as root with it
-  args.push_back("about:blank");
-  c.process = std::make_unique<ChildProcess>(kChromium, args, dir / "chrome.out", dir / "chrome.err", /*own_group=*/true);
-  const auto port_file = dir / "chrome-profile" / "DevToolsActivePort";
-  if (!wait_until([&] { return !read_file(port_file).empty() && read_file(port_file).find('\n') != std::string::npos; },
-                  30s))
-    return c;
-  c.devtools_port = static_cast<std::uint16_t>(std::stoi(read_file(port_file)));
-  return c;
-}
-
-std::string page_target(std::uint16_t devtools_port) {
-  const auto list = nlohmann::json::parse(http_request("127.0.0.1", devtools_port, "/json/list").body);
-  for (const auto& t : list) {
-    if (t.value("type", "") == "page") {
-      const std::string url = t.value("webSocketDebuggerUrl", "");
-      const auto slash = url.find('/', std::string("ws://").size());
-      if (slash != std::string::npos) return url.substr(slash);
-    }
-  }
-  return {};
-}
 
 TEST(ViewE2E, PageDrawsTheMatchAndKeysMoveTheEntityOnTheServer) {
   ASSERT_TRUE(std::filesystem::exists(kChromium))
@@ -162,19 +123,9 @@ TEST(ViewE2E, PageDrawsTheMatchAndKeysMoveTheEntityOnTheServer) {
   std::this_thread::sleep_for(300ms);
 
   // The screenshot artifact.
-  const auto shot = cdp.call("Page.captureScreenshot", {{"format", "png"}});
-  const std::string png = base64_decode(shot.value("data", ""));
+  const std::string png = save_screenshot(cdp, "view_e2e.png", "view_screenshot.png");
   ASSERT_GT(png.size(), 1000u);
   EXPECT_EQ(png.substr(1, 3), "PNG");
-  const auto artifacts = std::filesystem::path(THRONG_BIN_DIR) / ".." / "artifacts";
-  std::filesystem::create_directories(artifacts);
-  std::ofstream(artifacts / "view_e2e.png", std::ios::binary) << png;
-  if (const char* update = std::getenv("THRONG_UPDATE_SCREENSHOT"); update && std::string(update) == "1") {
-    const auto docs = std::filesystem::path(THRONG_SOURCE_DIR) / "docs";
-    std::filesystem::create_directories(docs);
-    std::filesystem::copy_file(artifacts / "view_e2e.png", docs / "view_screenshot.png",
-                               std::filesystem::copy_options::overwrite_existing);
-  }
 
   // Drag pans the camera; the gateway then sends the server the panned camera (interest area).
   cdp.call("Input.dispatchMouseEvent", {{"type", "mousePressed"}, {"x", cx}, {"y", cy}, {"button", "left"}, {"buttons", 1}, {"clickCount", 1}});
