@@ -158,6 +158,21 @@ TEST(ViewLogCli, ServesTheLogAndRefusesInputAndBadCommands) {
       10s))
       << frame.dump().substr(0, 300);
   EXPECT_EQ(frame["input_errors_total"], 5);
+
+  // A backwards seek: the "seeking" timeline goes out before the viewer blocks in it, then the
+  // frame of the new tick.
+  ws.send(R"({"type":"seek","tick":10})");
+  bool saw_seeking = false;
+  ASSERT_TRUE(wait_until(
+      [&] {
+        const auto m = ws.read(1s);
+        if (!m) return false;
+        const auto j = nlohmann::json::parse(*m);
+        if (j["type"] == "timeline" && j["seeking"] == true && j["target"] == 10) saw_seeking = true;
+        return j["type"] == "frame" && j["tick"] == 10;
+      },
+      10s));
+  EXPECT_TRUE(saw_seeking) << "no seeking timeline before the frame of the seek";
   EXPECT_TRUE(wait_until([&] { return read_file(dir / "view.err").find("rejected") != std::string::npos; }, 5s))
       << read_file(dir / "view.err");
 

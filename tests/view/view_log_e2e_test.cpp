@@ -202,7 +202,10 @@ TEST(ViewLogE2E, PlaysScrubsPausesAndChangesSpeed) {
       },
       5s))
       << stats.dump().substr(0, 800);
-  key(cdp, " ", "Space", 32);  // playing again for the screenshot
+  // Zoom in on the followed character (the wheel keeps it centred while following).
+  cdp.call("Input.dispatchMouseEvent", {{"type", "mouseWheel"}, {"x", size[0].get<double>() / 2},
+                                        {"y", size[1].get<double>() / 2}, {"deltaX", 0}, {"deltaY", -500}});
+    key(cdp, " ", "Space", 32);  // playing again for the screenshot
   std::this_thread::sleep_for(800ms);
 
   const std::string png = save_screenshot(cdp, "view_log_e2e.png", "view_log_screenshot.png");
