@@ -24,8 +24,16 @@ struct VerifyOptions {
   std::string log;
   bool quiet = false;  // no progress line
   bool exact_config = false;  // replay with the logged interest settings (ResimOptions::exact_interest)
+  unsigned jobs = 0;          // threads for a log with keyframes; 0 = hardware threads
 };
 int run_verify(const VerifyOptions& o);
+
+struct SeekOptions {
+  std::string log;
+  std::uint64_t tick = 0;
+  bool json = false;
+};
+int run_seek(const SeekOptions& o);
 
 struct ExportOptions {
   std::string log;

@@ -77,7 +77,12 @@ int run_info(const InfoOptions& o) {
     j["shutdown_tick"] = shutdown_tick;
     j["tick_blocks"] = s.blocks.size();
     j["index_records"] = s.index_records;
-    j["keyframes"] = 0;
+    j["keyframes"] = s.keyframes.size();
+    j["keyframe_interval_ticks"] = h.writer.keyframe_interval_ticks;
+    j["keyframe_bytes"] = s.keyframe_bytes;
+    j["keyframe_raw_bytes"] = s.keyframe_raw_bytes;
+    j["first_keyframe_tick"] = s.keyframes.empty() ? 0 : s.keyframes.front().tick;
+    j["last_keyframe_tick"] = s.keyframes.empty() ? 0 : s.keyframes.back().tick;
     j["bytes_per_tick"] = bytes_per_tick;
     j["raw_bytes_per_tick"] = raw_per_tick;
     j["end"] = matchlog::to_string(s.end);
@@ -104,8 +109,20 @@ int run_info(const InfoOptions& o) {
              shutdown_tick > 0 ? fmt::format(", shutdown began before tick {}", shutdown_tick) : "");
   fmt::print("size       {:.0f} bytes/tick on disk ({:.0f} bytes/tick uncompressed, zstd level {}), {} tick blocks of {} ticks\n",
              bytes_per_tick, raw_per_tick, h.writer.zstd_level, s.blocks.size(), h.writer.block_ticks);
-  fmt::print("index      {} index records (every {} ticks); 0 keyframes: world keyframes are not written yet, seeking re-simulates from tick 1\n",
-             s.index_records, h.writer.index_interval_ticks);
+  fmt::print("index      {} index records (every {} ticks)\n", s.index_records, h.writer.index_interval_ticks);
+  if (!s.keyframes.empty()) {
+    const double n = static_cast<double>(s.keyframes.size());
+    fmt::print("keyframes  {} world keyframes, every {} ticks (ticks {}..{}), {} bytes in the file ({:.0f} per keyframe, "
+               "{:.0f} uncompressed; {:.1f}% of the file)\n",
+               s.keyframes.size(), h.writer.keyframe_interval_ticks, s.keyframes.front().tick, s.keyframes.back().tick,
+               s.keyframe_bytes, static_cast<double>(s.keyframe_bytes) / n, static_cast<double>(s.keyframe_raw_bytes) / n,
+               s.file_bytes > 0 ? 100.0 * static_cast<double>(s.keyframe_bytes) / static_cast<double>(s.file_bytes) : 0.0);
+  } else if (h.format_version < 2) {
+    fmt::print("keyframes  none (format version 1 has no world keyframes): seeking re-simulates from tick 1\n");
+  } else {
+    fmt::print("keyframes  none ({}): seeking re-simulates from tick 1\n",
+               h.writer.keyframe_interval_ticks == 0 ? "the writer had keyframes off" : "none was written");
+  }
   for (const auto& g : s.gaps)
     fmt::print("gap        ticks {}..{} dropped by the writer (its backlog exceeded its cap), record at byte {}\n", g.first_tick,
                g.first_tick + g.count - 1, g.offset);

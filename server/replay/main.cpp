@@ -2,8 +2,8 @@
 //   info    what is in a log (header, ticks, clients, size, torn tail or not)
 //   verify  re-simulate from tick 1 and compare every tick's state hash
 //   export  poses and push events of a tick range as CSV or JSON
-// Not yet (phase 2 of the log issue): `play` (re-publishing over DDS) and seeking via world
-// keyframes — the engine cannot save/restore a world yet, so every re-simulation starts at tick 1.
+//   seek    go to a tick through the nearest world keyframe and check its state hash
+// Not yet in this file: `play` (re-publishing over DDS).
 #include <exception>
 
 #include <CLI/CLI.hpp>
@@ -17,8 +17,8 @@ int main(int argc, char** argv) {
       "throng-replay: inspect, verify and export Throng match logs.\n"
       "Exit codes: 0 ok, 1 re-simulation diverged, 2 bad usage / unreadable or unsupported log,\n"
       "3 log damaged in the middle or ticks missing (handled up to there).\n"
-      "Not yet available: 'play' (re-publish over DDS) and keyframe seeking (the log has no world\n"
-      "keyframes yet, so every re-simulation runs from tick 1)."};
+      "Logs of format version 2 carry a world keyframe every ~2 s: seek starts from the nearest one,\n"
+      "verify compares each and runs keyframe-aligned segments in parallel (--jobs)."};
   app.require_subcommand(1);
 
   InfoOptions info;
@@ -34,7 +34,20 @@ int main(int argc, char** argv) {
   verify_cmd->add_flag("-q,--quiet", verify.quiet, "no progress on stderr");
   verify_cmd->add_flag("--exact-config", verify.exact_config,
                        "re-simulate with the logged interest settings (default: a 1 cm interest radius, since "
-                       "snapshots are not part of the state hash; ~2x faster)");
+                       "snapshots are not part of the state hash; ~2x faster). Logs with keyframes always use the "
+                       "logged settings (a checkpoint restores only into the logged config)");
+  verify_cmd->add_option("-j,--jobs", verify.jobs,
+                         "threads: a log with keyframes is split into keyframe-aligned segments verified in parallel, "
+                         "each from its logged keyframe (default: hardware threads)")
+      ->check(CLI::Range(1u, 1024u));
+
+  SeekOptions seek;
+  CLI::App* seek_cmd = app.add_subcommand(
+      "seek", "Re-simulate to --tick from the nearest world keyframe at or before it; print where it started, the "
+              "time taken and the state hash at the tick against the logged one (exit 0 match, 1 mismatch)");
+  seek_cmd->add_option("LOG", seek.log, "match log file")->required();
+  seek_cmd->add_option("--tick", seek.tick, "the tick to go to (ticks start at 1)")->required()->check(CLI::PositiveNumber);
+  seek_cmd->add_flag("--json", seek.json, "machine-readable output");
 
   ExportOptions ex;
   CLI::App* export_cmd = app.add_subcommand(
@@ -60,6 +73,7 @@ int main(int argc, char** argv) {
   try {
     if (*info_cmd) return run_info(info);
     if (*verify_cmd) return run_verify(verify);
+    if (*seek_cmd) return run_seek(seek);
     ex.poses = !no_poses;
     ex.pushes = !no_pushes;
     return run_export(ex);

@@ -200,10 +200,16 @@ TEST(Damage, HeaderProblemsAreClearErrors) {
   EXPECT_NE(open_error(p).find("not a Throng match log"), std::string::npos) << open_error(p);
 
   bytes = good;
-  bytes[8] = 2;  // format version 2
+  bytes[8] = 3;  // format version 3
   test::write_bytes(p, bytes, bytes.size());
-  EXPECT_NE(open_error(p).find("format version 2 is not supported (this build reads format version 1)"), std::string::npos)
+  EXPECT_NE(open_error(p).find("format version 3 is not supported (this build reads format versions 1..2)"), std::string::npos)
       << open_error(p);
+  bytes[8] = 0;
+  test::write_bytes(p, bytes, bytes.size());
+  EXPECT_NE(open_error(p).find("format version 0 is not supported"), std::string::npos) << open_error(p);
+  bytes[8] = 1;  // a v2 header in a v1 preamble
+  test::write_bytes(p, bytes, bytes.size());
+  EXPECT_NE(open_error(p).find("format version 1 in the preamble, 2 in the header"), std::string::npos) << open_error(p);
 
   const auto recs = walk(good);
   test::write_bytes(p, good, recs.front().end - 10);

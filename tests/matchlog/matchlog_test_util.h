@@ -4,6 +4,7 @@
 // changes, a leave and a shutdown).
 #include <unistd.h>
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <cstdlib>
@@ -185,6 +186,9 @@ inline std::vector<TickRecord> write_random_log(const std::filesystem::path& pat
 // client 5 leaves at 120; begin_shutdown() before the last tick, plus a join it refuses.
 struct PlayedMatch {
   std::vector<TickRecord> ticks;
+  // Match::save_checkpoint() after every 15th tick (what the server hands to append_keyframe);
+  // keyframes[k] is the checkpoint after tick 15 * (k + 1).
+  std::vector<std::vector<std::uint8_t>> keyframes;
   std::uint64_t commands_accepted = 0, commands_rejected = 0, joins_accepted = 0;
 };
 
@@ -273,6 +277,10 @@ inline PlayedMatch play_match(std::uint64_t ticks = 200, const scene::SceneDef& 
     played.commands_rejected += r.commands_rejected;
     played.joins_accepted += r.joins_accepted;
     played.ticks.push_back(TickRecord{r.tick, r.state_hash, flags, m.last_inputs()});
+    if (t % 15 == 0) {
+      played.keyframes.emplace_back();
+      m.save_checkpoint(played.keyframes.back());
+    }
   }
   return played;
 }
@@ -287,13 +295,22 @@ inline LogHeader match_header(const scene::SceneDef& scene = small_battle(), con
 }
 
 // Writes played ticks through a writer. tamper_tick > 0: that tick's hash is written wrong (a log
-// whose hashes were tampered with).
+// whose hashes were tampered with). keyframes (PlayedMatch::keyframes): appended as the server does,
+// after every tick that is a multiple of the writer's keyframe interval.
 inline void write_played(const std::filesystem::path& path, const std::vector<TickRecord>& ticks, const LogHeader& header,
-                         WriterOptions options = {}, std::uint64_t tamper_tick = 0) {
+                         WriterOptions options = {}, std::uint64_t tamper_tick = 0,
+                         const std::vector<std::vector<std::uint8_t>>* keyframes = nullptr) {
+  // A test appends a whole match within a millisecond, the server one keyframe per ~2 s: room for
+  // all of them (Keyframes.WriterBehindDropsKeyframesLoudlyNotTicks tests the full case itself).
+  if (keyframes != nullptr) options.keyframe_slots = std::max<std::uint32_t>(options.keyframe_slots, 64);
   MatchLogWriter w(path.string(), options);
   w.begin(header);
-  for (const TickRecord& t : ticks)
+  const std::uint64_t every = w.keyframe_interval_ticks();
+  for (const TickRecord& t : ticks) {
     w.append_tick(t.tick, t.inputs, t.tick == tamper_tick ? t.state_hash ^ 1ull : t.state_hash, t.flags);
+    if (keyframes != nullptr && every > 0 && t.tick % every == 0 && every % 15 == 0 && t.tick / 15 <= keyframes->size())
+      w.append_keyframe(t.tick, (*keyframes)[t.tick / 15 - 1]);
+  }
   w.close();
 }
 

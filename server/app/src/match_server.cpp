@@ -62,7 +62,11 @@ struct MatchServer::Impl {
   ServerMetrics metrics{registry};
   std::unique_ptr<admin::AdminServer> admin;
   std::unique_ptr<matchlog::MatchLogWriter> log;  // null with --no-log
-  std::uint64_t log_dropped_seen = 0, log_spilled_seen = 0;
+  std::uint64_t log_dropped_seen = 0, log_spilled_seen = 0, log_kf_dropped_seen = 0;
+  // World keyframes for the log: Match::save_checkpoint into a reused buffer every keyframe
+  // interval, after the tick's snapshots are published, then handed to the writer (a copy).
+  std::vector<std::uint8_t> keyframe_buffer;
+  DurationStats keyframe_save, keyframe_append;
 
   match::Outbox outbox;
   ClientLedger ledger;
@@ -120,6 +124,12 @@ void MatchServer::Impl::check_log() {
     spdlog::error("match log: {} ticks dropped so far (disk too slow or I/O error: {}); the log has a gap", s.ticks_dropped,
                   s.io_error.empty() ? "none" : s.io_error);
     log_dropped_seen = s.ticks_dropped;
+  }
+  if (s.keyframes_dropped > log_kf_dropped_seen) {
+    metrics.log_keyframes_dropped.inc(s.keyframes_dropped - log_kf_dropped_seen);
+    spdlog::warn("match log: {} world keyframes skipped so far (the writer was still busy with the previous one); "
+                 "seeking in this log will re-simulate further", s.keyframes_dropped);
+    log_kf_dropped_seen = s.keyframes_dropped;
   }
   if (s.spilled_ticks > log_spilled_seen) {
     spdlog::warn("match log: the disk is behind the match ({} ticks waiting to be written)", s.backlog_ticks);
@@ -203,6 +213,14 @@ void MatchServer::Impl::run_tick(Clock::time_point woke) {
   if (log) log->append_tick(report.tick, match.last_inputs(), report.state_hash, stopping ? matchlog::kTickShutdownBegan : 0);
   const auto published_at = Clock::now();
   publish_outbox();
+  if (log && log->keyframe_interval_ticks() > 0 && report.tick % log->keyframe_interval_ticks() == 0) {
+    const auto k0 = Clock::now();
+    match.save_checkpoint(keyframe_buffer);
+    const auto k1 = Clock::now();
+    log->append_keyframe(report.tick, keyframe_buffer);
+    keyframe_save.add(seconds_between(k0, k1));
+    keyframe_append.add(seconds_between(k1, Clock::now()));
+  }
   const auto done = Clock::now();
   const bool overrun = schedule->end_tick(done);
 
@@ -326,6 +344,12 @@ int MatchServer::run(bool handle_signals) {
       const auto ls = m.log->stats();
       spdlog::info("match log closed: {} ticks, {} bytes ({:.0f} bytes/tick)", ls.ticks_written, ls.bytes_written,
                    ls.ticks_written ? static_cast<double>(ls.bytes_written) / static_cast<double>(ls.ticks_written) : 0.0);
+      if (ls.keyframes_appended > 0)
+        spdlog::info("match log keyframes: {} written, {} skipped, {} bytes in the file ({} raw); on the tick thread: "
+                     "save_checkpoint p50 {:.2f} ms p99 {:.2f} ms max {:.2f} ms, append_keyframe p99 {:.3f} ms max {:.3f} ms",
+                     ls.keyframes_written, ls.keyframes_dropped, ls.keyframe_bytes, ls.keyframe_raw_bytes,
+                     m.keyframe_save.quantile(0.5) * 1e3, m.keyframe_save.quantile(0.99) * 1e3, m.keyframe_save.max() * 1e3,
+                     m.keyframe_append.quantile(0.99) * 1e3, m.keyframe_append.max() * 1e3);
     } catch (const std::exception& e) {
       spdlog::error("match log: {}", e.what());
     }

@@ -37,7 +37,9 @@ ServerMetrics::ServerMetrics(admin::MetricsRegistry& r)
       state_hash_low32(r.gauge("throng_state_hash_low32", "Low 32 bits of the last tick's world state hash (determinism checks).")),
       log_backlog_ticks(r.gauge("throng_matchlog_backlog_ticks", "Ticks appended to the match log but not yet written.")),
       log_bytes(r.gauge("throng_matchlog_bytes", "Size of the match log so far.")),
-      log_ticks_dropped(r.counter("throng_matchlog_ticks_dropped_total", "Ticks the match log lost (disk too slow or I/O error).")) {
+      log_ticks_dropped(r.counter("throng_matchlog_ticks_dropped_total", "Ticks the match log lost (disk too slow or I/O error).")),
+      log_keyframes_dropped(r.counter("throng_matchlog_keyframes_dropped_total",
+                                      "World keyframes the match log skipped because its writer was behind (seeking gets slower).")) {
   for (std::size_t i = 0; i < match::kRejectReasonCount; ++i)
     commands_rejected[i] = &r.counter("throng_commands_rejected_total", "Client commands rejected, by reason.",
                                       {{"reason", match::to_string(static_cast<match::RejectReason>(i))}});

@@ -9,10 +9,11 @@ const char* to_string(RecordType t) {
     case RecordType::index: return "index";
     case RecordType::gap: return "gap";
     case RecordType::end: return "end";
+    case RecordType::keyframe: return "keyframe";
   }
   return "unknown";
 }
 
-bool is_known_record_type(std::uint8_t t) { return t >= 1 && t <= 5; }
+bool is_known_record_type(std::uint8_t t) { return t >= 1 && t <= 6; }
 
 }  // namespace throng::matchlog

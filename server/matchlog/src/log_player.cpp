@@ -11,6 +11,8 @@ namespace throng::matchlog {
 struct LogPlayer::Impl {
   explicit Impl(const std::string& path, PlayerOptions o) : reader(path), options(o) {
     const LogScan& s = reader.scan();
+    // Keyframes restore only into a Match of the logged config (see ResimOptions).
+    if (!s.keyframes.empty()) options.resim.exact_interest = true;
     last = s.ticks == 0 ? 0 : s.last_tick;
     if (!s.gaps.empty()) last = std::min(last, s.gaps.front().first_tick - 1);
     restart();
@@ -22,6 +24,23 @@ struct LogPlayer::Impl {
     sim = std::make_unique<Resimulator>(reader.header(), options.resim);
     reader.rewind();
     matched = true;
+  }
+
+  // Jumps to a logged keyframe (in place: restore_checkpoint replaces the whole simulation state).
+  // False if it cannot be restored (then keyframes are not used again; see keyframe_problem).
+  bool restore(const KeyframeInfo& k) {
+    try {
+      reader.read_keyframe(k, checkpoint);
+      sim->restore(checkpoint);
+    } catch (const std::exception& e) {
+      keyframe_problem = fmt::format("the keyframe of tick {} cannot be restored ({}); seeking re-simulates from tick 1",
+                                     k.tick, e.what());
+      restart();
+      return false;
+    }
+    reader.seek(k.tick + 1);
+    matched = true;
+    return true;
   }
 
   bool step() {
@@ -39,6 +58,8 @@ struct LogPlayer::Impl {
   std::uint64_t last = 0;
   TickRecord rec;
   bool matched = true;
+  std::vector<std::uint8_t> checkpoint;
+  std::string keyframe_problem;
   match::TickReport empty_report;  // last_report() before any step
 };
 
@@ -58,7 +79,12 @@ SeekResult LogPlayer::seek(std::uint64_t target) {
   Impl& m = *impl_;
   target = std::min(target, m.last);
   SeekResult r;
-  if (target < m.sim->tick()) m.restart();  // backwards: from the match start
+  const KeyframeInfo* k = m.keyframe_problem.empty() ? m.reader.find_keyframe(target) : nullptr;
+  if (k != nullptr && (k->tick > m.sim->tick() || target < m.sim->tick())) {
+    if (m.restore(*k)) r.keyframe_tick = k->tick;
+  } else if (target < m.sim->tick()) {
+    m.restart();  // backwards without a keyframe: from the match start
+  }
   while (m.sim->tick() < target) {
     m.step();
     ++r.ticks_simulated;
@@ -70,6 +96,7 @@ SeekResult LogPlayer::seek(std::uint64_t target) {
 }
 
 bool LogPlayer::step() { return impl_->step(); }
+const std::string& LogPlayer::keyframe_problem() const { return impl_->keyframe_problem; }
 bool LogPlayer::last_hash_matched() const { return impl_->matched; }
 const match::Match& LogPlayer::match() const { return impl_->sim->match(); }
 const match::Outbox& LogPlayer::outbox() const { return impl_->sim->outbox(); }

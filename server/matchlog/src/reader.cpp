@@ -88,6 +88,12 @@ std::size_t find_valid_record_after(const std::uint8_t* data, std::size_t size, 
       case RecordType::end:
         if (len != 32 || load_u64(p) >= q) continue;
         break;
+      case RecordType::keyframe: {
+        if (len < 13) continue;
+        const std::uint64_t tick = load_u64(p);
+        if (tick == 0 || tick > last_tick + (1ull << 32)) continue;
+        break;
+      }
       default: continue;
     }
     if (check_record(data, size, q).ok) return q;
@@ -152,9 +158,10 @@ void MatchLogReader::read_header() {
     throw LogError(fmt::format("{}: truncated header: the file is only {} bytes (the preamble alone is {})", path_, size_,
                                kFilePreambleBytes));
   const std::uint32_t version = load_u32(data_ + 8);
-  if (version != kFormatVersion)
-    throw LogError(fmt::format("{}: match log format version {} is not supported (this build reads format version {})",
-                               path_, version, kFormatVersion));
+  if (version < kOldestReadableFormatVersion || version > kFormatVersion)
+    throw LogError(fmt::format("{}: match log format version {} is not supported (this build reads format versions {}..{})",
+                               path_, version, kOldestReadableFormatVersion, kFormatVersion));
+  scan_.format_version = version;
   const RecordCheck r = check_record(data_, size_, kFilePreambleBytes);
   if (!r.ok) {
     if (size_ - kFilePreambleBytes < kRecordOverheadBytes ||
@@ -294,11 +301,50 @@ void MatchLogReader::scan_records() {
           last_good_tick = expected - 1;
           break;
         }
+        case RecordType::keyframe: {
+          if (s.format_version < 2) { semantic("a keyframe record in a format version 1 log"); break; }
+          if (len < 13) { semantic("keyframe record shorter than its head"); break; }
+          const std::uint64_t tick = load_u64(p);
+          const std::uint8_t codec = p[8];
+          const std::uint32_t raw_size = load_u32(p + 9);
+          if (tick == 0 || tick != last_good_tick || (!s.keyframes.empty() && tick <= s.keyframes.back().tick)) {
+            semantic(fmt::format("keyframe for tick {} after tick {} (a keyframe follows the block ending at its tick)",
+                                 tick, last_good_tick));
+            break;
+          }
+          if (codec > static_cast<std::uint8_t>(BlockCodec::zstd)) { semantic(fmt::format("unknown keyframe codec {}", codec)); break; }
+          if (codec == static_cast<std::uint8_t>(BlockCodec::raw) && raw_size != len - 13) {
+            semantic("raw keyframe size disagrees with its head");
+            break;
+          }
+          s.keyframes.push_back({tick, pos, framed, raw_size});
+          s.keyframe_bytes += framed;
+          s.keyframe_raw_bytes += raw_size;
+          break;
+        }
         case RecordType::index: {
           if (len < 13) { semantic("index record shorter than its head"); break; }
           const bool final = p[8] != 0;
           const std::uint32_t n = load_u32(p + 9);
-          if (static_cast<std::uint64_t>(n) * 20 != len - 13) { semantic("index record length disagrees with its count"); break; }
+          const std::uint64_t block_part = 13 + static_cast<std::uint64_t>(n) * 20;
+          std::uint32_t nk = 0;
+          if (s.format_version >= 2) {
+            if (len < block_part + 4) { semantic("index record length disagrees with its count"); break; }
+            nk = load_u32(p + block_part);
+            if (block_part + 4 + static_cast<std::uint64_t>(nk) * 16 != len) { semantic("index record length disagrees with its counts"); break; }
+          } else if (block_part != len) {
+            semantic("index record length disagrees with its count");
+            break;
+          }
+          for (std::uint32_t k = 0; k < nk && damage.empty(); ++k) {
+            const std::uint8_t* e = p + block_part + 4 + 16 * k;
+            const std::uint64_t tick = load_u64(e), off = load_u64(e + 8);
+            const auto it = std::lower_bound(s.keyframes.begin(), s.keyframes.end(), tick,
+                                             [](const KeyframeInfo& x, std::uint64_t t) { return x.tick < t; });
+            if (it == s.keyframes.end() || it->tick != tick || it->offset != off)
+              semantic(fmt::format("index keyframe entry {} (tick {} at byte {}) names no such keyframe", k, tick, off));
+          }
+          if (final && nk != s.keyframes.size() && damage.empty()) semantic("the final index does not list every keyframe");
           // Every entry must name a block this scan saw at that offset with that tick range.
           for (std::uint32_t k = 0; k < n && damage.empty(); ++k) {
             const std::uint8_t* e = p + 13 + 20 * k;
@@ -361,6 +407,64 @@ const BlockInfo* MatchLogReader::find_block(std::uint64_t tick) const {
   if (it == b.begin()) return nullptr;
   --it;
   return tick < it->first_tick + it->tick_count ? &*it : nullptr;
+}
+
+const KeyframeInfo* MatchLogReader::find_keyframe(std::uint64_t tick) const {
+  const auto& k = scan_.keyframes;
+  auto it = std::upper_bound(k.begin(), k.end(), tick, [](std::uint64_t t, const KeyframeInfo& x) { return t < x.tick; });
+  if (it == k.begin()) return nullptr;
+  return &*(it - 1);
+}
+
+void MatchLogReader::read_keyframe(const KeyframeInfo& k, std::vector<std::uint8_t>& out) const {
+  const std::uint8_t* p = data_ + k.offset + 5;
+  const std::uint32_t len = load_u32(data_ + k.offset);
+  const std::uint8_t codec = p[8];
+  const std::uint8_t* body = p + 13;
+  const std::size_t body_size = len - 13;
+  if (codec == static_cast<std::uint8_t>(BlockCodec::raw)) {
+    out.assign(body, body + body_size);
+    return;
+  }
+  if (k.raw_size > (1u << 30))
+    throw LogError(fmt::format("{}: keyframe at byte {}: implausible size {}", path_, k.offset, k.raw_size));
+  out.resize(k.raw_size);
+  const std::size_t n = ZSTD_decompress(out.data(), out.size(), body, body_size);
+  if (ZSTD_isError(n) || n != k.raw_size)
+    throw LogError(fmt::format("{}: keyframe for tick {} at byte {} does not inflate to its {} bytes{}", path_, k.tick,
+                               k.offset, k.raw_size, ZSTD_isError(n) ? std::string(": ") + ZSTD_getErrorName(n) : ""));
+}
+
+bool TickCursor::seek(std::uint64_t tick) {
+  const auto& b = r_.scan().blocks;
+  auto it = std::lower_bound(b.begin(), b.end(), tick,
+                             [](const BlockInfo& x, std::uint64_t t) { return x.first_tick + x.tick_count <= t; });
+  loaded_ = false;
+  pos_ = 0;
+  block_ = static_cast<std::size_t>(it - b.begin());
+  if (it == b.end()) return false;
+  r_.decode_block(block_, raw_);
+  loaded_ = true;
+  TickRecord skip;
+  for (std::uint64_t t = it->first_tick; t < tick; ++t) decode_tick(raw_, pos_, skip);
+  return true;
+}
+
+bool TickCursor::next(TickRecord& out) {
+  for (;;) {
+    if (block_ >= r_.scan().blocks.size()) return false;
+    if (!loaded_) {
+      r_.decode_block(block_, raw_);
+      pos_ = 0;
+      loaded_ = true;
+    }
+    if (pos_ < raw_.size()) {
+      decode_tick(raw_, pos_, out);
+      return true;
+    }
+    ++block_;
+    loaded_ = false;
+  }
 }
 
 void MatchLogReader::rewind() {

@@ -80,6 +80,11 @@ void MatchLogWriter::begin(LogHeader header) {
     const std::uint32_t b = opt_.block_ticks;
     opt_.index_interval_ticks = (opt_.index_interval_ticks + b - 1) / b * b;
   }
+  if (opt_.keyframe_interval_ticks > 0) {
+    const std::uint32_t b = opt_.block_ticks;
+    opt_.keyframe_interval_ticks = (opt_.keyframe_interval_ticks + b - 1) / b * b;
+    if (opt_.keyframe_slots < 1) throw LogError("match log: keyframe_slots must be >= 1");
+  }
 
   header.format_version = kFormatVersion;
   if (header.build_id.empty()) header.build_id = default_build_id();
@@ -87,7 +92,8 @@ void MatchLogWriter::begin(LogHeader header) {
   header.start_unix_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
                              std::chrono::system_clock::now().time_since_epoch()).count();
   header.start_utc = format_utc_ms(header.start_unix_ms);
-  header.writer = {opt_.block_ticks, opt_.index_interval_ticks, opt_.fsync_interval_ms, opt_.zstd_level};
+  header.writer = {opt_.block_ticks, opt_.index_interval_ticks, opt_.fsync_interval_ms, opt_.zstd_level,
+                   opt_.keyframe_interval_ticks};
   const std::string text = header_to_json_text(header);
 
   const std::filesystem::path p(path_);
@@ -122,6 +128,7 @@ void MatchLogWriter::begin(LogHeader header) {
   fsyncs_ = 1;
 
   ring_.resize(opt_.ring_slots);
+  kf_ring_.resize(opt_.keyframe_interval_ticks > 0 ? opt_.keyframe_slots : 0);
   for (Slot& s : ring_) s.bytes.reserve(opt_.slot_reserve_bytes);
   hist_ = std::make_unique<std::atomic<std::uint32_t>[]>(kHistBins);
   for (std::size_t i = 0; i < kHistBins; ++i) hist_[i].store(0, std::memory_order_relaxed);
@@ -146,10 +153,14 @@ void MatchLogWriter::append_tick(std::uint64_t tick, const match::TickInputs& in
                                             tick, next_tick_));
   if ((flags & ~kKnownTickFlags) != 0) throw std::invalid_argument("MatchLogWriter::append_tick: unknown flag bits");
   ++next_tick_;
-  appended_.fetch_add(1, std::memory_order_relaxed);
+  // release: a keyframe appended for the previous tick is visible to a writer that sees this count
+  // (the writer waits for that to decide whether the previous tick has a keyframe).
+  appended_.fetch_add(1, std::memory_order_release);
+  last_tick_dropped_ = false;
 
   if (io_failed_.load(std::memory_order_relaxed)) {
     dropped_.fetch_add(1, std::memory_order_relaxed);
+    last_tick_dropped_ = true;
   } else {
     const std::uint64_t h = head_.load(std::memory_order_relaxed);
     const std::uint64_t t = tail_.load(std::memory_order_acquire);
@@ -164,6 +175,7 @@ void MatchLogWriter::append_tick(std::uint64_t tick, const match::TickInputs& in
       const std::size_t size = encoded_tick_size(inputs);
       if (spill_bytes_.load(std::memory_order_relaxed) + size > opt_.spill_cap_bytes) {
         dropped_.fetch_add(1, std::memory_order_relaxed);
+        last_tick_dropped_ = true;
       } else {
         std::vector<std::uint8_t> v;
         v.reserve(size);
@@ -192,7 +204,89 @@ void MatchLogWriter::append_tick(std::uint64_t tick, const match::TickInputs& in
   else hist_over_.fetch_add(1, std::memory_order_relaxed);
 }
 
+void MatchLogWriter::append_keyframe(std::uint64_t tick, std::span<const std::uint8_t> checkpoint) {
+  const Clock::time_point t0 = Clock::now();
+  if (!began_ || closed_) throw std::logic_error("MatchLogWriter::append_keyframe before begin() or after close()");
+  if (opt_.keyframe_interval_ticks == 0)
+    throw std::invalid_argument("MatchLogWriter::append_keyframe: keyframes are off (keyframe_interval_ticks = 0)");
+  if (tick + 1 != next_tick_ || tick % opt_.keyframe_interval_ticks != 0)
+    throw std::invalid_argument(fmt::format(
+        "MatchLogWriter::append_keyframe: tick {} given; a keyframe belongs to the last appended tick ({}) and that "
+        "tick must be a multiple of the keyframe interval ({})",
+        tick, next_tick_ - 1, opt_.keyframe_interval_ticks));
+  kf_appended_.fetch_add(1, std::memory_order_relaxed);
+  const std::uint64_t h = kf_head_.load(std::memory_order_relaxed);
+  const std::uint64_t t = kf_tail_.load(std::memory_order_acquire);
+  if (last_tick_dropped_ || io_failed_.load(std::memory_order_relaxed) || h - t >= kf_ring_.size()) {
+    kf_dropped_.fetch_add(1, std::memory_order_relaxed);
+  } else {
+    KeyframeSlot& s = kf_ring_[h % kf_ring_.size()];
+    s.tick = tick;
+    s.bytes.assign(checkpoint.begin(), checkpoint.end());
+    kf_head_.store(h + 1, std::memory_order_release);
+  }
+  atomic_max(max_kf_append_ns_, ns_between(t0, Clock::now()));
+}
+
+bool MatchLogWriter::resolve_keyframe() {
+  const std::uint64_t k = kf_pending_;
+  // Decided once the tick thread has moved past tick k (appended k + 1, or is closing): anything it
+  // appended for k is in the slots by then (release/acquire on appended_ and kf_head_).
+  const bool final = appended_.load(std::memory_order_acquire) > k || closing_.load(std::memory_order_acquire);
+  for (;;) {
+    const std::uint64_t t = kf_tail_.load(std::memory_order_relaxed);
+    if (t == kf_head_.load(std::memory_order_acquire)) break;
+    KeyframeSlot& s = kf_ring_[t % kf_ring_.size()];
+    if (s.tick > k) break;  // a later tick's: k has none
+    if (s.tick == k) write_keyframe(s.tick, s.bytes);
+    else kf_dropped_.fetch_add(1, std::memory_order_relaxed);  // older than its block: cannot be placed
+    kf_tail_.store(t + 1, std::memory_order_release);
+    if (s.tick == k) {
+      kf_pending_ = 0;
+      break;
+    }
+  }
+  if (kf_pending_ != 0 && !final) return false;  // the keyframe for k may still come
+  kf_pending_ = 0;
+  if (opt_.index_interval_ticks > 0 && k % opt_.index_interval_ticks == 0) write_index(false);
+  return true;
+}
+
+void MatchLogWriter::write_keyframe(std::uint64_t tick, const std::vector<std::uint8_t>& bytes) {
+  if (io_failed_.load(std::memory_order_relaxed)) {
+    kf_dropped_.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  kf_payload_.clear();
+  detail::put_u64(kf_payload_, tick);
+  BlockCodec codec = BlockCodec::raw;
+  if (zctx_ != nullptr) {
+    compressed_.resize(ZSTD_compressBound(bytes.size()));
+    const std::size_t n = ZSTD_compressCCtx(static_cast<ZSTD_CCtx*>(zctx_), compressed_.data(), compressed_.size(),
+                                            bytes.data(), bytes.size(), opt_.zstd_level);
+    if (!ZSTD_isError(n) && n < bytes.size()) {
+      compressed_.resize(n);
+      codec = BlockCodec::zstd;
+    }
+  }
+  detail::put_u8(kf_payload_, static_cast<std::uint8_t>(codec));
+  detail::put_u32(kf_payload_, static_cast<std::uint32_t>(bytes.size()));
+  const std::vector<std::uint8_t>& body = codec == BlockCodec::zstd ? compressed_ : bytes;
+  kf_payload_.insert(kf_payload_.end(), body.begin(), body.end());
+  const std::uint64_t at = offset_;
+  write_record(RecordType::keyframe, kf_payload_);
+  if (io_failed_.load(std::memory_order_relaxed)) {
+    kf_dropped_.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  kf_all_.push_back({tick, at});
+  kf_written_.fetch_add(1, std::memory_order_relaxed);
+  kf_bytes_.fetch_add(offset_ - at, std::memory_order_relaxed);
+  kf_raw_bytes_.fetch_add(bytes.size(), std::memory_order_relaxed);
+}
+
 bool MatchLogWriter::process_one() {
+  if (kf_pending_ != 0 && !resolve_keyframe()) return false;
   const std::uint64_t t = tail_.load(std::memory_order_relaxed);
   if (t < head_.load(std::memory_order_acquire)) {
     consume(ring_[t % ring_.size()].bytes);
@@ -234,6 +328,11 @@ void MatchLogWriter::consume(const std::vector<std::uint8_t>& entry) {
   ++expected_tick_;
   if (tick % opt_.block_ticks == 0) {
     flush_block();
+    if (opt_.keyframe_interval_ticks > 0 && tick % opt_.keyframe_interval_ticks == 0) {
+      kf_pending_ = tick;  // the keyframe (if any) and the index follow once the tick thread is past it
+      resolve_keyframe();
+      return;
+    }
     if (opt_.index_interval_ticks > 0 && tick % opt_.index_interval_ticks == 0) write_index(false);
   }
 }
@@ -289,6 +388,14 @@ void MatchLogWriter::write_index(bool final) {
     detail::put_u32(p, index_all_[i].tick_count);
     detail::put_u64(p, index_all_[i].offset);
   }
+  // v2: the keyframes since the previous index (final: all of them).
+  const std::size_t kfrom = final ? 0 : kf_published_;
+  detail::put_u32(p, static_cast<std::uint32_t>(kf_all_.size() - kfrom));
+  for (std::size_t i = kfrom; i < kf_all_.size(); ++i) {
+    detail::put_u64(p, kf_all_[i].tick);
+    detail::put_u64(p, kf_all_[i].offset);
+  }
+  kf_published_ = kf_all_.size();
   last_index_offset_ = offset_;
   index_published_ = index_all_.size();
   write_record(RecordType::index, p);
@@ -346,6 +453,7 @@ void MatchLogWriter::run() {
       // The tick thread has stopped appending: take whatever is left, then finish the file.
       while (process_one()) {
       }
+      if (kf_pending_ != 0) resolve_keyframe();  // closing: decided
       break;
     }
     auto timeout = std::chrono::milliseconds(std::max<std::uint32_t>(1, opt_.poll_ms));
@@ -418,6 +526,12 @@ WriterStats MatchLogWriter::stats() const {
       }
     }
   }
+  s.keyframes_appended = kf_appended_.load(std::memory_order_relaxed);
+  s.keyframes_written = kf_written_.load(std::memory_order_relaxed);
+  s.keyframes_dropped = kf_dropped_.load(std::memory_order_relaxed);
+  s.keyframe_bytes = kf_bytes_.load(std::memory_order_relaxed);
+  s.keyframe_raw_bytes = kf_raw_bytes_.load(std::memory_order_relaxed);
+  s.max_keyframe_append_us = static_cast<double>(max_kf_append_ns_.load(std::memory_order_relaxed)) / 1e3;
   std::lock_guard<std::mutex> lock(error_mutex_);
   s.io_error = io_error_;
   return s;

@@ -39,6 +39,7 @@ struct ServerMetrics {
   admin::Gauge& log_backlog_ticks;
   admin::Gauge& log_bytes;
   admin::Counter& log_ticks_dropped;
+  admin::Counter& log_keyframes_dropped;
 };
 
 }  // namespace throng::server

@@ -4,8 +4,9 @@
 //   file   = magic (8 bytes "\x89THRONG\n") | format version (u32 LE) | record*
 //   record = [payload length u32 LE][type u8][payload][crc32c u32 LE over length, type, payload]
 //
-// The first record is always the header (JSON), then tick blocks, periodic index records, gap
-// records if the writer ever had to drop ticks, and on a clean close a final index + end record.
+// The first record is always the header (JSON), then tick blocks, keyframes (v2), periodic index
+// records, gap records if the writer ever had to drop ticks, and on a clean close a final index +
+// end record.
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -13,7 +14,8 @@
 namespace throng::matchlog {
 
 inline constexpr std::uint8_t kMagic[8] = {0x89, 'T', 'H', 'R', 'O', 'N', 'G', '\n'};
-inline constexpr std::uint32_t kFormatVersion = 1;   // what this build writes and reads
+inline constexpr std::uint32_t kFormatVersion = 2;   // what this build writes
+inline constexpr std::uint32_t kOldestReadableFormatVersion = 1;  // v1: no keyframes (read too)
 inline constexpr std::size_t kFilePreambleBytes = 12;  // magic + version
 inline constexpr std::size_t kRecordOverheadBytes = 9;  // length + type + crc
 // No record is larger (a tick block of 256 clients x 4 commands is ~50 KB per tick): a length
@@ -26,6 +28,7 @@ enum class RecordType : std::uint8_t {
   index = 3,       // offsets of tick blocks (periodic, and one final index on close)
   gap = 4,         // ticks the writer had to drop (disk backlog over its hard cap)
   end = 5,         // clean close: offset of the final index, tick counts
+  keyframe = 6,    // v2: Match::save_checkpoint() after a tick, zstd-compressed (for seeking)
 };
 const char* to_string(RecordType t);
 bool is_known_record_type(std::uint8_t t);

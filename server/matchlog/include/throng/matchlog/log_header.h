@@ -16,6 +16,7 @@ struct WriterSettingsRecord {
   std::uint32_t index_interval_ticks = 0;
   std::uint32_t fsync_interval_ms = 0;
   int zstd_level = 0;  // 0 = tick blocks stored raw
+  std::uint32_t keyframe_interval_ticks = 0;  // v2; 0 = no keyframes (and every v1 log)
 };
 
 struct LogHeader {

@@ -21,6 +21,8 @@ namespace throng::matchlog {
 struct PlayerOptions {
   // Snapshots are what play publishes, so the logged interest settings are used by default
   // (ResimOptions::exact_interest = true). Viewers that read the world directly may turn it off.
+  // A log with keyframes always uses the logged settings (a checkpoint restores only into a Match
+  // of the logged config).
   ResimOptions resim{.record_push_events = false, .exact_interest = true};
 };
 
@@ -48,13 +50,18 @@ class LogPlayer {
   std::uint64_t last_tick() const;   // last tick that can be re-simulated (stops before a gap)
   std::uint64_t tick() const;        // ticks applied so far: 0 = the match before its first tick
 
-  // Moves to `tick` (clamped to 0..last_tick()). Forward seeks within one keyframe interval
-  // step on from the current position; anything else restarts from the nearest keyframe.
+  // Moves to `tick` (clamped to 0..last_tick()). Restores the nearest logged keyframe at or before
+  // `tick` when that is ahead of the current position or the seek goes backwards, then steps; a
+  // forward seek with no keyframe in between steps on from the current position; backwards without
+  // a keyframe re-simulates from the match start.
   SeekResult seek(std::uint64_t tick);
   // Applies the next logged tick; false (and nothing changes) at last_tick().
   bool step();
   // The last step's recomputed hash equalled the logged one (true before any step).
   bool last_hash_matched() const;
+  // "" unless a keyframe failed to restore (another build's checkpoint format, say): then seeks
+  // re-simulate from tick 1 and this says why.
+  const std::string& keyframe_problem() const;
 
   const match::Match& match() const;
   const match::Outbox& outbox() const;            // of the last step(): replies, events, snapshots

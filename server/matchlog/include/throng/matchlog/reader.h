@@ -43,6 +43,13 @@ struct GapInfo {
   std::uint64_t offset = 0;
 };
 
+struct KeyframeInfo {
+  std::uint64_t tick = 0;          // the world after this tick (Match::save_checkpoint)
+  std::uint64_t offset = 0;        // of the record's length field
+  std::uint32_t record_bytes = 0;  // framed size
+  std::uint32_t raw_size = 0;      // checkpoint bytes uncompressed
+};
+
 struct LogScan {
   std::uint64_t file_bytes = 0;
   std::uint64_t header_bytes = 0;       // preamble + header record
@@ -51,6 +58,10 @@ struct LogScan {
   std::uint64_t tick_block_bytes = 0;   // framed tick-block records
   std::uint64_t raw_tick_bytes = 0;     // the same ticks uncompressed
   std::uint64_t index_records = 0;
+  std::uint32_t format_version = 0;
+  std::vector<KeyframeInfo> keyframes;  // in tick order (v2 logs)
+  std::uint64_t keyframe_bytes = 0;     // framed keyframe records
+  std::uint64_t keyframe_raw_bytes = 0; // their checkpoints uncompressed
   std::vector<BlockInfo> blocks;        // in tick order
   std::vector<GapInfo> gaps;
   std::uint64_t ticks_missing = 0;      // sum of gaps
@@ -83,10 +94,17 @@ class MatchLogReader {
   // The block holding tick, or nullptr (binary search).
   const BlockInfo* find_block(std::uint64_t tick) const;
 
+  // The last keyframe at or before tick, or nullptr (binary search over scan().keyframes).
+  const KeyframeInfo* find_keyframe(std::uint64_t tick) const;
+  // The checkpoint bytes of a keyframe (decompressed into out). Throws LogError on a keyframe that
+  // does not inflate (its CRC matched, so this means a writer bug). Thread-safe (const).
+  void read_keyframe(const KeyframeInfo& k, std::vector<std::uint8_t>& out) const;
+  // Decodes scan().blocks[index] into raw (the concatenated tick entries). Thread-safe (const).
+  void decode_block(std::size_t index, std::vector<std::uint8_t>& raw) const;
+
  private:
   void read_header();
   void scan_records();
-  void decode_block(std::size_t index, std::vector<std::uint8_t>& raw) const;
   std::span<const std::uint8_t> bytes() const { return {data_, size_}; }
 
   std::string path_;
@@ -100,6 +118,23 @@ class MatchLogReader {
   std::vector<std::uint8_t> raw_;
   std::size_t raw_pos_ = 0;
   bool raw_loaded_ = false;
+};
+
+// An independent sequential cursor over a reader's ticks, so several threads can read one log at
+// once (each with its own cursor; the reader itself is only read).
+class TickCursor {
+ public:
+  explicit TickCursor(const MatchLogReader& reader) : r_(reader) {}
+  // The next next() returns the first readable tick >= tick; false if there is none.
+  bool seek(std::uint64_t tick);
+  bool next(TickRecord& out);
+
+ private:
+  const MatchLogReader& r_;
+  std::size_t block_ = 0;
+  std::vector<std::uint8_t> raw_;
+  std::size_t pos_ = 0;
+  bool loaded_ = false;
 };
 
 }  // namespace throng::matchlog

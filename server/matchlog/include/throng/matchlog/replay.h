@@ -3,13 +3,17 @@
 // logged tick's inputs exactly as the server's tick drained them. verify_log compares every
 // tick's state hash with the logged one.
 //
-// What a mismatch can say: the log holds inputs and a 64-bit hash per tick, not the world, so the
-// first divergent tick and both hashes are all that can be known; which bodies differ needs world
-// keyframes in the log (phase 2 of the log issue).
+// What a mismatch can say: the first divergent tick and both hashes; with world keyframes in the
+// log (format version 2) also the objects whose state differs, found by re-simulating from the
+// keyframe before the divergent tick to the keyframe after it and diffing the two checkpoints.
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <span>
+#include <string>
+#include <vector>
 
+#include "throng/match/checkpoint_diff.h"
 #include "throng/match/match.h"
 #include "throng/matchlog/log_header.h"
 #include "throng/matchlog/reader.h"
@@ -26,6 +30,8 @@ struct ResimOptions {
   // (server/match: match_snapshots.cpp is their only reader), and building 50 full snapshots is
   // ~45% of a re-simulated tick at 6,000 bodies. Should that ever stop being true, verify reports
   // a mismatch (it can never pass falsely: the hash covers the world). true: the logged settings.
+  // Keyframes (checkpoints) only restore into, and compare equal with, a Match of the logged
+  // config: everything that restores or compares keyframes turns exact_interest on.
   bool exact_interest = false;
 };
 
@@ -33,6 +39,9 @@ class Resimulator {
  public:
   explicit Resimulator(const LogHeader& header, ResimOptions options = {});
   ~Resimulator();
+  // Replaces the match's state with a logged keyframe's checkpoint (Match::restore_checkpoint;
+  // throws match::CheckpointError). The next step() must then be the keyframe's tick + 1.
+  void restore(std::span<const std::uint8_t> checkpoint);
   // Applies one logged tick (its inputs are moved out): begin_shutdown() if the tick is flagged,
   // push the inputs, tick(). Returns the recomputed state hash. Throws LogError if t.tick is not
   // the next tick (a gap in the log cannot be re-simulated across).
@@ -51,6 +60,18 @@ class Resimulator {
 };
 
 struct VerifyResult {
+  unsigned jobs = 1;                 // threads used
+  std::uint64_t segments = 1;        // keyframe-aligned pieces verified independently (each but the first from its keyframe)
+  std::uint64_t keyframes_checked = 0;  // logged keyframes the re-simulated checkpoint was compared with
+  // The state hashes matched up to a keyframe tick but the re-simulated checkpoint differs from
+  // the logged one there (state the hash does not cover, e.g. NPC AI or client records).
+  bool keyframe_mismatch = false;
+  std::uint64_t keyframe_mismatch_tick = 0;
+  // On a mismatch in a log with keyframes: the objects whose state differs at diff_tick (the first
+  // logged keyframe at or after the divergent tick), re-simulated from the keyframe at diff_from_tick.
+  std::vector<match::BodyDifference> differences;
+  std::uint64_t diff_from_tick = 0, diff_tick = 0;
+  std::string diff_note;             // why no objects could be named ("" when differences says it)
   std::uint64_t ticks_total = 0;     // readable ticks in the log
   std::uint64_t ticks_verified = 0;  // ticks whose hash matched, from tick 1 on
   bool mismatch = false;
@@ -63,12 +84,26 @@ struct VerifyResult {
   // Where the re-simulation time went, summed over the verified ticks (Match::tick phases; the
   // rest is log decoding and pushing inputs).
   double apply_ms = 0.0, ai_ms = 0.0, step_ms = 0.0, snapshots_ms = 0.0;
-  bool all_match() const { return !mismatch && !stopped_at_gap && ticks_verified == ticks_total; }
+  bool all_match() const { return !mismatch && !keyframe_mismatch && !stopped_at_gap && ticks_verified == ticks_total; }
 };
 
-// progress(done, total) is called every progress_every ticks and once at the end.
+// progress(done, total) is called every progress_every ticks (jobs > 1: about every 0.2 s) and
+// once at the end, always from the calling thread.
+//
+// A log with keyframes (format version 2) is re-simulated with the logged config
+// (exact_interest is forced on, see ResimOptions) and at every logged keyframe the re-simulated
+// checkpoint must equal the logged one byte for byte. jobs > 1 splits the log into keyframe-
+// aligned segments verified in parallel, each but the first starting from its logged keyframe
+// (the restore is proven by the segment's first hash check and its next keyframe comparison);
+// the result is the same as with jobs = 1. Without keyframes jobs is ignored (one segment).
 using VerifyProgress = std::function<void(std::uint64_t done, std::uint64_t total)>;
 VerifyResult verify_log(MatchLogReader& reader, const VerifyProgress& progress = {}, std::uint64_t progress_every = 30,
-                        ResimOptions options = {});
+                        ResimOptions options = {}, unsigned jobs = 1);
+
+// Re-simulates from the logged keyframe at or before `divergent_tick - 1` (or tick 0) to the first
+// logged keyframe at or after divergent_tick and diffs the two checkpoints; fills the diff_* fields
+// and differences of v. At most max_objects objects.
+void explain_divergence(const MatchLogReader& reader, std::uint64_t divergent_tick, ResimOptions options, VerifyResult& v,
+                        std::size_t max_objects = 20);
 
 }  // namespace throng::matchlog

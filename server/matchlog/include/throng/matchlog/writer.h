@@ -54,6 +54,7 @@
 #include <deque>
 #include <memory>
 #include <mutex>
+#include <span>
 #include <string>
 #include <thread>
 #include <vector>
@@ -77,6 +78,11 @@ struct WriterOptions {
   std::size_t spill_cap_bytes = 256u << 20; // beyond the ring: at most this much backlog, then drop
   std::uint32_t poll_ms = 50;               // the writer thread looks for new ticks this often (the
                                             //   tick thread never wakes it: see writer.cpp)
+  // World keyframes (format version 2): the caller hands Match::save_checkpoint() bytes to
+  // append_keyframe() after every tick that is a multiple of this (rounded up to a multiple of
+  // block_ticks; default = the index interval, ~2 s at 30 Hz). 0 = no keyframes.
+  std::uint32_t keyframe_interval_ticks = 60;
+  std::uint32_t keyframe_slots = 2;          // keyframes waiting for the writer thread; beyond: dropped
   // Tests only: sleep this long after every write, to simulate a slow disk. 0 in production.
   std::uint32_t test_write_delay_ms = 0;
 };
@@ -97,6 +103,13 @@ struct WriterStats {
   double max_append_us = 0;
   double p99_append_us = 0;           // from a 0.1 µs histogram up to 100 µs (beyond: max)
   std::string io_error;               // first write/fsync error ("" = none); logging stopped there
+  // Keyframes (append_keyframe)
+  std::uint64_t keyframes_appended = 0;
+  std::uint64_t keyframes_written = 0;
+  std::uint64_t keyframes_dropped = 0;   // the writer was behind (slots full) or the tick was dropped
+  std::uint64_t keyframe_bytes = 0;      // framed keyframe records in the file
+  std::uint64_t keyframe_raw_bytes = 0;  // the same checkpoints uncompressed
+  double max_keyframe_append_us = 0;     // the copy into a slot, on the tick thread
 };
 
 class MatchLogWriter {
@@ -117,6 +130,15 @@ class MatchLogWriter {
   void append_tick(std::uint64_t tick, const match::TickInputs& inputs, std::uint64_t state_hash,
                    std::uint8_t flags = 0);
 
+  // A world keyframe for the last appended tick (which must be a multiple of the keyframe
+  // interval, std::invalid_argument otherwise): Match::save_checkpoint() bytes, copied into a
+  // writer-owned slot (reused; allocates only while a slot grows) and returns. Never blocks: when
+  // every slot is still waiting for the writer thread, the keyframe is dropped and counted in
+  // stats().keyframes_dropped (a missing keyframe only makes seeking slower; report it). The file
+  // stays a function of the inputs: the keyframe is written right after the block ending at its tick.
+  void append_keyframe(std::uint64_t tick, std::span<const std::uint8_t> checkpoint);
+  std::uint32_t keyframe_interval_ticks() const { return opt_.keyframe_interval_ticks; }  // after rounding
+
   // Waits for the writer thread to write everything queued, then writes the final (partial) block,
   // the final index and the end record, fsyncs and closes the file. Idempotent. Throws LogError if
   // any write or fsync failed during the match (the message says which and where).
@@ -136,6 +158,8 @@ class MatchLogWriter {
   void flush_block();
   void write_gap(std::uint64_t first, std::uint64_t count);
   void write_index(bool final);
+  bool resolve_keyframe();  // writer thread: the keyframe decision for kf_pending_ is known
+  void write_keyframe(std::uint64_t tick, const std::vector<std::uint8_t>& bytes);
   void write_record(RecordType type, const std::vector<std::uint8_t>& payload);
   void maybe_fsync(bool force);
   void fail_io(const std::string& what);
@@ -145,6 +169,15 @@ class MatchLogWriter {
   int fd_ = -1;
   bool began_ = false, closed_ = false;
   std::uint64_t next_tick_ = 1;  // tick thread: the tick append_tick expects
+  bool last_tick_dropped_ = false;  // tick thread: the last append_tick dropped its tick
+
+  // keyframe slots (single producer: tick thread, single consumer: writer thread)
+  struct KeyframeSlot {
+    std::uint64_t tick = 0;
+    std::vector<std::uint8_t> bytes;
+  };
+  std::vector<KeyframeSlot> kf_ring_;
+  std::atomic<std::uint64_t> kf_head_{0}, kf_tail_{0};
 
   // ring (single producer: tick thread, single consumer: writer thread)
   std::vector<Slot> ring_;
@@ -170,6 +203,13 @@ class MatchLogWriter {
   };
   std::vector<IndexEntry> index_all_;
   std::size_t index_published_ = 0;  // entries already in a periodic index record
+  struct KeyframeEntry {
+    std::uint64_t tick, offset;
+  };
+  std::vector<KeyframeEntry> kf_all_;
+  std::size_t kf_published_ = 0;
+  std::uint64_t kf_pending_ = 0;     // a block ending at this keyframe tick was written; its keyframe is not decided yet
+  std::vector<std::uint8_t> kf_payload_;
   std::uint64_t last_index_offset_ = 0;
   std::uint64_t offset_ = 0;         // file size
   std::uint64_t unsynced_bytes_ = 0;
@@ -182,6 +222,7 @@ class MatchLogWriter {
   std::atomic<std::uint64_t> backlog_high_{0};
   std::atomic<std::uint64_t> bytes_{0}, raw_bytes_{0}, records_{0}, fsyncs_{0};
   std::atomic<std::uint64_t> max_fsync_ns_{0}, max_append_ns_{0};
+  std::atomic<std::uint64_t> kf_appended_{0}, kf_written_{0}, kf_dropped_{0}, kf_bytes_{0}, kf_raw_bytes_{0}, max_kf_append_ns_{0};
   static constexpr std::size_t kHistBins = 1000;  // 0.1 µs bins, 0..100 µs
   std::unique_ptr<std::atomic<std::uint32_t>[]> hist_;
   std::atomic<std::uint64_t> hist_over_{0};
