@@ -232,6 +232,27 @@ TEST_F(MatchCheckpointErrors, WrongMagicVersionAndTrailingBytes) {
   expect_error(target, bad, "world state");
 }
 
+// Corrupted bytes anywhere (a count, an index, a flag): a CheckpointError or a successful
+// restore, never another exception, a crash or a huge allocation (the ASan build runs this too).
+TEST_F(MatchCheckpointErrors, CorruptedBytesFailCleanly) {
+  std::mt19937_64 rng(42);
+  Match m(small_battle(), test::small_config(), "fuzz");  // whatever a successful restore leaves is fine
+  for (int i = 0; i < 400; ++i) {
+    Bytes bad = saved;
+    const std::size_t at = i < 200 ? rng() % std::min<std::size_t>(bad.size(), 4096) : rng() % bad.size();
+    bad[at] = static_cast<std::uint8_t>(rng() % 2 ? bad[at] ^ (1u << (rng() % 8)) : 0xFF);
+    try {
+      m.restore_checkpoint(bad);
+    } catch (const CheckpointError&) {
+      // expected for most
+    }
+  }
+  // Counts claiming far more entries than the bytes hold fail as truncation.
+  Bytes bad = saved;
+  for (std::size_t k = 0; k < 4; ++k) bad[24 + k] = 0xFF;  // body count
+  expect_error(target, bad, "bodies");
+}
+
 TEST_F(MatchCheckpointErrors, OtherSceneOrConfig) {
   Match fewer(scene::scale_scene(scene::builtin_scene("battle"), 200), test::small_config(), "f");
   expect_error(fewer, saved, "300 bodies, this match 200");

@@ -16,6 +16,7 @@
 //  - last_inputs(), the TickReport, worker scratches / totals, cameras / perm / scratch vectors:
 //    all rewritten by the next tick before they are read;
 //  - the snapshot sink and the match id: they belong to the process hosting the match.
+#include <algorithm>
 #include <cstring>
 #include <exception>
 #include <string>
@@ -206,13 +207,14 @@ void Match::Impl::restore_checkpoint(std::span<const std::uint8_t> bytes) {
   std::vector<std::uint8_t> roster_faction, roster_type;
   r.get_array_exact(roster_faction, "roster factions", info.roster.faction.size());
   r.get_array_exact(roster_type, "roster character types", info.roster.character_type.size());
-  std::vector<float> softness(r.get_count("scenery softness", info.scenery.size()));
+  std::vector<float> softness(r.get_count("scenery softness", info.scenery.size(), 4));
   if (softness.size() != info.scenery.size()) r.fail("scenery count differs from this match's");
   for (float& s : softness) s = r.get<float>("scenery softness");
-  std::deque<ClientRecord> records(r.get_count("clients", kMaxClientsEver));
-  for (std::size_t k = 0; k < records.size(); ++k) {
-    records[k] = get_client(r);
-    if (records[k].id != k + 1) r.fail("client ids are not 1, 2, 3, ...");
+  std::deque<ClientRecord> records;
+  const std::uint32_t n_clients = r.get_count("clients", kMaxClientsEver, 100);
+  for (std::size_t k = 0; k < n_clients; ++k) {
+    records.push_back(get_client(r));
+    if (records.back().id != k + 1) r.fail("client ids are not 1, 2, 3, ...");
   }
   for (std::uint32_t c : their_controller) {
     if (c > records.size()) r.fail("a body is controlled by client " + std::to_string(c) + ", never seen");
@@ -220,7 +222,9 @@ void Match::Impl::restore_checkpoint(std::span<const std::uint8_t> bytes) {
   NpcAi staged_ai = ai;
   staged_ai.restore_state(r, n);
   SnapshotBuilder staged_snapshots(config.interest);
-  staged_snapshots.restore_state(r);
+  // The builder's tables grow to at most 1.25x the largest object index, at least 1,024
+  // (interest_grid.cpp): anything beyond twice that is corrupt.
+  staged_snapshots.restore_state(r, std::max<std::size_t>(1024, 2 * dense_of_slot.size()));
   if (r.remaining() != 0) r.fail(std::to_string(r.remaining()) + " bytes after the end of the checkpoint");
 
   world().restore_state(world_bytes);  // throws before changing anything; the last thing that may throw

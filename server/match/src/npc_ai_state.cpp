@@ -50,7 +50,7 @@ void NpcAi::restore_state(ByteReader& r, std::size_t n) {
   r.get_array_exact(slot_x_, "ai slot x", n);
   r.get_array_exact(slot_y_, "ai slot y", n);
   r.get_array_exact(target_, "ai targets", n);
-  groups_.resize(r.get_count("ai group count", 1u << 20));
+  groups_.resize(r.get_count("ai group count", 1u << 20, 60));
   for (AiGroup& g : groups_) {
     g.faction = r.get<std::uint8_t>("ai group");
     g.group_id = r.get<std::uint32_t>("ai group");

@@ -961,12 +961,12 @@ void SnapshotBuilder::save_state(ByteWriter& w) const {
   }
 }
 
-void SnapshotBuilder::restore_state(ByteReader& r) {
-  constexpr std::size_t kMaxObjects = std::size_t{ObjectId::kMaxIndex} + 1;
+void SnapshotBuilder::restore_state(ByteReader& r, std::size_t max_capacity) {
+  const std::size_t kMaxObjects = std::min<std::size_t>(max_capacity, std::size_t{ObjectId::kMaxIndex} + 1);
   const auto world_unit = r.get<std::uint16_t>("snapshot world unit");
   if (world_unit == 0) r.fail("snapshot world unit 0");
   const std::size_t capacity = std::max<std::size_t>(impl_->capacity, r.get_count("snapshot capacity", kMaxObjects));
-  std::vector<std::unique_ptr<Client>> clients(r.get_count("snapshot clients", 1u << 20));
+  std::vector<std::unique_ptr<Client>> clients(r.get_count("snapshot clients", 1u << 20, 16));
   std::uint32_t previous = 0;
   for (auto& cp : clients) {
     cp = std::make_unique<Client>();
@@ -976,7 +976,7 @@ void SnapshotBuilder::restore_state(ByteReader& r) {
     previous = c.client_id;
     c.stamp = r.get<std::uint32_t>("snapshot stamp");
     c.reserve(capacity);
-    c.known.resize(r.get_count("snapshot known", 2 * capacity + 64));
+    c.known.resize(r.get_count("snapshot known", 2 * capacity + 64, kKnownRecordBytes));
     const std::uint8_t* p = r.take(c.known.size() * kKnownRecordBytes, "snapshot known");
     for (KnownEntry& e : c.known) {
       std::uint32_t v[8];
@@ -994,7 +994,7 @@ void SnapshotBuilder::restore_state(ByteReader& r) {
       o.yaw = p[sizeof v];
       p += kKnownRecordBytes;
     }
-    c.pending.resize(r.get_count("snapshot pending", 4 * capacity + 1024));
+    c.pending.resize(r.get_count("snapshot pending", 4 * capacity + 1024, 8));
     for (PendingRemoval& pr : c.pending) {
       pr.id = r.get<std::uint32_t>("snapshot pending");
       pr.left = r.get<std::uint32_t>("snapshot pending");

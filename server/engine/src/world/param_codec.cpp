@@ -59,7 +59,7 @@ params::SidePredicate get_predicate(ByteReader& r) {
   const auto fixed = r.get<std::uint8_t>("rule.fixed");
   if (fixed > 2) r.fail("rule.fixed: value " + std::to_string(fixed));
   if (fixed != 0) p.fixed = fixed == 2;
-  const std::uint32_t n = r.get_count("rule.ranges", 1024);
+  const std::uint32_t n = r.get_count("rule.ranges", 1024, 17);
   for (std::uint32_t k = 0; k < n; ++k) {
     params::ParamBound b;
     b.param = checked_enum<params::Param>(r.get<std::uint8_t>("range.param"), params::kParamCount - 1, "range.param", r);
@@ -149,7 +149,7 @@ void put_policy(ByteWriter& w, const params::PushPolicy& policy) {
 params::PushPolicy get_policy(ByteReader& r) {
   const auto mode = checked_enum<params::PushMode>(r.get<std::uint8_t>("policy.mode"), 2, "policy.mode", r);
   const auto home = r.get<std::uint32_t>("policy.home_faction");
-  std::vector<params::Term> terms(r.get_count("policy.terms", 1024));
+  std::vector<params::Term> terms(r.get_count("policy.terms", 1024, 18));
   for (params::Term& t : terms) {
     t.input = checked_enum<params::TermInput>(r.get<std::uint8_t>("term.input"), params::kTermInputCount - 1,
                                               "term.input", r);
@@ -157,7 +157,7 @@ params::PushPolicy get_policy(ByteReader& r) {
     t.scale = r.get<double>("term.scale");
     t.invert = r.get_bool("term.invert");
   }
-  std::vector<params::PairRule> rules(r.get_count("policy.rules", params::kMaxPairRules));
+  std::vector<params::PairRule> rules(r.get_count("policy.rules", params::kMaxPairRules, 40));
   for (params::PairRule& rule : rules) {
     rule.name = r.get_string("rule.name", 4096);
     rule.a = get_predicate(r);
@@ -189,7 +189,7 @@ void put_groups(ByteWriter& w, const params::GroupTable& groups) {
 }
 
 std::vector<std::pair<std::uint32_t, params::Group>> get_groups(ByteReader& r) {
-  std::vector<std::pair<std::uint32_t, params::Group>> out(r.get_count("groups", params::kMaxGroupId));
+  std::vector<std::pair<std::uint32_t, params::Group>> out(r.get_count("groups", params::kMaxGroupId, 33));
   std::uint32_t previous = 0;
   for (auto& [id, g] : out) {
     id = r.get<std::uint32_t>("group.id");

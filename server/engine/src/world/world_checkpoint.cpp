@@ -139,10 +139,10 @@ WorldState decode_world_state(ByteReader& r) {
   const std::uint32_t n = r.get_count("body count", kMaxSlots);
   const std::uint32_t ns = r.get_count("slot count", kMaxSlots);
   const std::uint32_t nf = r.get_count("fixed count", kMaxSlots);
+  const std::uint8_t* p = r.take(std::size_t{ns} * 9, "slots");  // before sizing anything by ns
   st.slot_generation.resize(ns);
   st.slot_kind.resize(ns);
   st.slot_ref.resize(ns);
-  const std::uint8_t* p = r.take(std::size_t{ns} * 9, "slots");
   if (ns != 0) {
     std::memcpy(st.slot_generation.data(), p, std::size_t{ns} * 4);
     std::memcpy(st.slot_kind.data(), p + std::size_t{ns} * 4, ns);
@@ -171,7 +171,7 @@ WorldState decode_world_state(ByteReader& r) {
     }
   }
   get_params(r, n, st.body_params, "body params");
-  st.cameras.resize(r.get_count("cameras", kMaxCameras));
+  st.cameras.resize(r.get_count("cameras", kMaxCameras, 24));
   for (Vec3& c : st.cameras) {
     c.x = r.get<double>("camera");
     c.y = r.get<double>("camera");
@@ -180,7 +180,7 @@ WorldState decode_world_state(ByteReader& r) {
   st.all_coefficients_dirty = r.get_bool("coefficients dirty");
   st.groups = get_groups(r);
   st.morale_counts_present = r.get_bool("morale counts present");
-  const std::uint32_t nonzero = r.get_count("morale counts", params::kMaxGroupId + 1);
+  const std::uint32_t nonzero = r.get_count("morale counts", params::kMaxGroupId + 1, 12);
   if (st.morale_counts_present) {
     st.morale_allies.assign(params::kMaxGroupId + 1, 0);
     st.morale_enemies.assign(params::kMaxGroupId + 1, 0);

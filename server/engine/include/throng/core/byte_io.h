@@ -109,10 +109,16 @@ class ByteReader {
     if (b > 1) fail(std::string(what) + ": boolean byte " + std::to_string(b));
     return b != 0;
   }
-  // A count that must not exceed `max` (so a corrupt count cannot make us allocate gigabytes).
-  std::uint32_t get_count(const char* what, std::size_t max) {
+  // A count that must not exceed `max`, and whose elements (at least min_bytes_each each) must
+  // fit in what is left: a corrupt count fails here instead of making the caller allocate gigabytes.
+  std::uint32_t get_count(const char* what, std::size_t max, std::size_t min_bytes_each = 0) {
     const auto n = get<std::uint32_t>(what);
     if (n > max) fail(std::string(what) + ": count " + std::to_string(n) + " exceeds " + std::to_string(max));
+    if (std::size_t{n} * min_bytes_each > remaining()) {
+      throw CheckpointError("checkpoint truncated: " + std::string(what) + " lists " + std::to_string(n) +
+                            " entries at offset " + std::to_string(pos_) + ", only " + std::to_string(remaining()) +
+                            " bytes left");
+    }
     return n;
   }
   template <class T>

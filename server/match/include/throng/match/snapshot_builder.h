@@ -130,10 +130,11 @@ class SnapshotBuilder {
   // Checkpoints: each client's copy of every object it was sent (that decides what its future
   // snapshots contain), its build stamp, known list and pending removals, and the whole-world
   // unit. Not saved: the tick's index (index() rebuilds it before any build) and Scratch.
-  // restore_state replaces every client; it throws CheckpointError (builder unchanged) on bad bytes.
-  // Not concurrent with build().
+  // restore_state replaces every client; it throws CheckpointError (builder unchanged) on bad bytes
+  // or a per-client table larger than max_capacity (1 + the largest object index the caller's
+  // world can have). Not concurrent with build().
   void save_state(ByteWriter& w) const;
-  void restore_state(ByteReader& r);
+  void restore_state(ByteReader& r, std::size_t max_capacity);
 
   const InterestConfig& config() const { return config_; }
   bool has_client(std::uint32_t client_id) const;
