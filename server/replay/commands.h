@@ -1,7 +1,7 @@
 #pragma once
 // throng-replay's subcommands. Each returns the process exit code:
 //   0  success (verify: every readable tick's hash matched; a torn tail is reported, not an error)
-//   1  verify/export: the re-simulation diverged from the logged hashes
+//   1  verify/export/play: the re-simulation diverged from the logged hashes
 //   2  usage error, unreadable file, not a match log, unsupported version, bad header
 //   3  the log is damaged in the middle or has ticks the writer dropped: read/verified up to there
 #include <cstdint>
@@ -47,6 +47,21 @@ struct ExportOptions {
   bool exact_config = false;
 };
 int run_export(const ExportOptions& o);
+
+// play: re-publish a logged match over DDS (play.cpp; watchers as spectators: play_watchers.h).
+struct PlayOptions {
+  std::string log;
+  double speed = 1.0;           // 0.1..16: ticks run at tick_hz * speed
+  std::uint64_t from = 1;       // first tick published (the player re-simulates up to from - 1 first)
+  int domain = 0;               // DDS domain, like throng-server
+  bool network = false;         // Fast DDS's default transports instead of 127.0.0.1 only
+  bool loop = false;            // at the end, seek back to --from and play again (until a signal)
+  bool strict = false;          // stop at the first tick whose hash differs from the log
+  std::uint32_t max_watchers = 64;
+  double watcher_timeout_s = 10.0;  // a watcher that sends no command for this long is dropped; 0 = never
+  bool quiet = false;           // no progress line
+};
+int run_play(const PlayOptions& o);
 
 // Progress on stderr: one rewriting line on a terminal, a line every 10% otherwise.
 class Progress {

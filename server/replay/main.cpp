@@ -2,9 +2,11 @@
 //   info    what is in a log (header, ticks, clients, size, torn tail or not)
 //   verify  re-simulate from tick 1 and compare every tick's state hash
 //   export  poses and push events of a tick range as CSV or JSON
+//   play    re-publish the match over DDS at tick_hz x speed, so bots and viewers watch it as if live
 //   seek    go to a tick through the nearest world keyframe and check its state hash
-// Not yet in this file: `play` (re-publishing over DDS).
+#include <cmath>
 #include <exception>
+#include <string>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -17,8 +19,8 @@ int main(int argc, char** argv) {
       "throng-replay: inspect, verify and export Throng match logs.\n"
       "Exit codes: 0 ok, 1 re-simulation diverged, 2 bad usage / unreadable or unsupported log,\n"
       "3 log damaged in the middle or ticks missing (handled up to there).\n"
-      "Logs of format version 2 carry a world keyframe every ~2 s: seek starts from the nearest one,\n"
-      "verify compares each and runs keyframe-aligned segments in parallel (--jobs)."};
+      "Logs of format version 2 carry a world keyframe every ~2 s: seek and play --from start from the\n"
+      "nearest one, verify compares each and runs keyframe-aligned segments in parallel (--jobs)."};
   app.require_subcommand(1);
 
   InfoOptions info;
@@ -64,6 +66,45 @@ int main(int argc, char** argv) {
   export_cmd->add_flag("-q,--quiet", ex.quiet, "no progress on stderr");
   export_cmd->add_flag("--exact-config", ex.exact_config, "re-simulate with the logged interest settings");
 
+  PlayOptions play;
+  CLI::App* play_cmd = app.add_subcommand(
+      "play",
+      "Re-publish the logged match over DDS as throng-server did (match info, join/param replies, every logged "
+      "client's snapshots on its own partition, stats), at tick_hz x --speed, so bots and viewers watch it as if "
+      "live. Every tick's state hash is checked: a mismatch means this build does not reproduce the log (said "
+      "loudly, exit 1; --strict stops there).\n"
+      "WATCHERS: a client that joins is accepted as a SPECTATOR (the logged match takes no new inputs): it gets its "
+      "own client id and partition ('w<n>') and follows an entity - the logged clients' entities in turn, or with no "
+      "logged client connected the body nearest the centre of the battle - with snapshots built for it alone (logged "
+      "interest settings, camera on that entity). Its commands are ignored and counted, parameter updates refused. "
+      "Facing (yaw) in watcher snapshots is derived from velocity; positions are exact.\n"
+      "SIGINT/SIGTERM: publishes match info 'ended', prints the summary, exits 0.");
+  play_cmd->add_option("LOG", play.log, "match log file")->required();
+  auto finite = [](const std::string& v) -> std::string {
+    try {
+      const double d = std::stod(v);
+      return std::isfinite(d) ? std::string() : "must be a finite number";
+    } catch (const std::exception&) {
+      return "must be a number";
+    }
+  };
+  play_cmd->add_option("--speed", play.speed, "playback speed, 0.1..16 (1 = as recorded)")
+      ->check(CLI::Validator(finite, "FINITE"))
+      ->check(CLI::Range(0.1, 16.0));
+  play_cmd->add_option("--from", play.from, "first tick to publish (re-simulates up to it first; ticks start at 1)")
+      ->check(CLI::PositiveNumber);
+  play_cmd->add_option("--domain", play.domain, "DDS domain id (like throng-server)")->check(CLI::Range(0, 232));
+  play_cmd->add_flag("--network", play.network, "Fast DDS's default transports and discovery (default: 127.0.0.1 only)");
+  play_cmd->add_flag("--loop", play.loop, "at the end, seek back to --from and play again until SIGINT/SIGTERM");
+  play_cmd->add_flag("--strict", play.strict, "stop at the first tick whose state hash differs from the log (exit 1)");
+  play_cmd->add_option("--max-watchers", play.max_watchers, "spectators accepted at once (more: match_full)")
+      ->check(CLI::Range(0u, 4096u));
+  play_cmd->add_option("--watcher-timeout", play.watcher_timeout_s,
+                       "drop a watcher that sent no command for this many seconds (0 = never)")
+      ->check(CLI::Validator(finite, "FINITE"))
+      ->check(CLI::Range(0.0, 86400.0));
+  play_cmd->add_flag("-q,--quiet", play.quiet, "no progress line on stderr");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -74,6 +115,7 @@ int main(int argc, char** argv) {
     if (*info_cmd) return run_info(info);
     if (*verify_cmd) return run_verify(verify);
     if (*seek_cmd) return run_seek(seek);
+    if (*play_cmd) return run_play(play);
     ex.poses = !no_poses;
     ex.pushes = !no_pushes;
     return run_export(ex);
