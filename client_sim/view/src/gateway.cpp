@@ -1,15 +1,13 @@
 #include "throng/view/gateway.h"
 
-#include "throng/view/match_json.h"
-
 #include <algorithm>
-#include <cmath>
 #include <iterator>
 #include <random>
 #include <vector>
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
+
+#include "throng/view/match_json.h"
 
 namespace throng::view {
 
