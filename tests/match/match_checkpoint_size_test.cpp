@@ -29,6 +29,13 @@ TEST(MatchCheckpointSize, BattleAtSixThousandBodies) {
   const auto t0 = clock::now();
   for (int i = 0; i < kSaves; ++i) m.save_checkpoint(bytes);
   const auto t1 = clock::now();
+  std::vector<std::uint8_t> world_bytes;
+  m.world().save_state(world_bytes);
+  const auto tw0 = clock::now();
+  for (int i = 0; i < kSaves; ++i) m.world().save_state(world_bytes);
+  const auto tw1 = clock::now();
+  const double world_us = std::chrono::duration<double, std::micro>(tw1 - tw0).count() / kSaves;
+  std::printf("  of which world section: %zu bytes, save %.1f us\n", world_bytes.size(), world_us);
   Match fresh(scene::scale_scene(scene::builtin_scene("battle"), 6000), config, "fresh");
   constexpr int kRestores = 5;
   const auto t2 = clock::now();

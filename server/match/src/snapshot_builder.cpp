@@ -948,7 +948,11 @@ void SnapshotBuilder::save_state(ByteWriter& w) const {
     w.put(c.stamp);
     w.put(static_cast<std::uint32_t>(c.known.size()));
     std::uint8_t* p = w.grow(c.known.size() * kKnownRecordBytes);
-    for (const KnownEntry& e : c.known) {
+    const std::size_t n_known = c.known.size();
+    for (std::size_t i = 0; i < n_known; ++i) {
+      // Known entries are in the order objects became known, i.e. scattered object indices.
+      if (i + kPrefetchAhead < n_known) __builtin_prefetch(&c.obj[c.known[i + kPrefetchAhead].index], 0, 1);
+      const KnownEntry& e = c.known[i];
       const ObjectState& o = c.obj[e.index];
       const std::uint32_t v[8] = {e.index, e.id, static_cast<std::uint32_t>(o.x), static_cast<std::uint32_t>(o.y),
                                   static_cast<std::uint32_t>(o.z), o.id, o.seen, o.sent_tick};
