@@ -63,8 +63,8 @@ int run_verify(const VerifyOptions& o) {
     return kExitMismatch;
   }
   if (v.keyframe_mismatch) {
-    fmt::print("MISMATCH at the keyframe of tick {}: every state hash up to it matched, but the re-simulated checkpoint "
-               "differs from the logged one ({})\n", v.keyframe_mismatch_tick, speed);
+    fmt::print("MISMATCH at the keyframe of tick {}: every state hash up to it matched, but the re-simulated world "
+               "differs from the logged keyframe ({})\n", v.keyframe_mismatch_tick, speed);
     print_objects();
     return kExitMismatch;
   }
@@ -82,6 +82,7 @@ int run_verify(const VerifyOptions& o) {
                v.step_ms / n, v.ai_ms / n, v.snapshots_ms / n, v.apply_ms / n,
                std::max(0.0, v.seconds * 1000.0 - v.step_ms - v.ai_ms - v.snapshots_ms - v.apply_ms) / n);
   }
+  if (!v.keyframe_note.empty()) fmt::print("note: {}\n", v.keyframe_note);
   switch (s.end) {
     case matchlog::LogEnd::closed: break;
     case matchlog::LogEnd::unclosed: fmt::print("note: {}\n", s.problem); break;

@@ -2,8 +2,9 @@
 //   throng_matchlog_tests --gtest_also_run_disabled_tests --gtest_filter='Measure*'
 // and THRONG_MEASURE_BODIES / THRONG_MEASURE_TICKS to change the size (defaults 6000 / 900)).
 // The battle scene with 50 clients joined at tick 1, each sending one command per tick with its
-// camera over its entity, logged live by the default writer: bytes per tick for several writer
-// settings, append time per tick inside a real match, and verify speed.
+// camera over its entity, logged live by the default writer with a world keyframe every 60 ticks
+// (as the server does): bytes per tick for several writer settings, append time per tick inside a
+// real match, keyframe save/append cost and size, seek time, and verify speed with 1 and 2 jobs.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,6 +12,7 @@
 #include <cstdlib>
 
 #include "matchlog_test_util.h"
+#include "throng/matchlog/log_player.h"
 #include "throng/matchlog/reader.h"
 #include "throng/matchlog/replay.h"
 #include "throng/world/world.h"
@@ -37,7 +39,8 @@ TEST(Measure, DISABLED_BattleLogSizeAppendTimeAndVerifySpeed) {
   w.begin(h);
 
   std::vector<TickRecord> recorded;
-  std::vector<double> append_us, tick_ms;
+  std::vector<double> append_us, tick_ms, save_ms, kf_append_us;
+  std::vector<std::uint8_t> checkpoint;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> clients;  // id, entity
   std::mt19937 rng(1);
   std::uniform_real_distribution<float> unit(-0.7f, 0.7f);
@@ -72,6 +75,15 @@ TEST(Measure, DISABLED_BattleLogSizeAppendTimeAndVerifySpeed) {
     const auto t2 = Clock::now();
     tick_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
     append_us.push_back(std::chrono::duration<double, std::micro>(t2 - t1).count());
+    if (r.tick % w.keyframe_interval_ticks() == 0) {  // what the server does after the tick
+      const auto k0 = Clock::now();
+      m.save_checkpoint(checkpoint);
+      const auto k1 = Clock::now();
+      w.append_keyframe_swap(r.tick, checkpoint);  // as the server does
+      const auto k2 = Clock::now();
+      save_ms.push_back(std::chrono::duration<double, std::milli>(k1 - k0).count());
+      kf_append_us.push_back(std::chrono::duration<double, std::micro>(k2 - k1).count());
+    }
     for (const auto& reply : out.join_replies) clients.emplace_back(reply.client_id, reply.entity);
     recorded.push_back(TickRecord{r.tick, r.state_hash, 0, m.last_inputs()});
   }
@@ -89,6 +101,18 @@ TEST(Measure, DISABLED_BattleLogSizeAppendTimeAndVerifySpeed) {
               q(append_us, 0.5), q(append_us, 0.99), append_us.back(), ws.p99_append_us, ws.max_append_us,
               static_cast<unsigned long long>(ws.backlog_high_water), static_cast<unsigned long long>(ws.fsyncs), ws.max_fsync_ms);
 
+  std::sort(save_ms.begin(), save_ms.end());
+  std::sort(kf_append_us.begin(), kf_append_us.end());
+  if (!save_ms.empty())
+    std::printf("keyframes (every %u ticks, %zu of them, checkpoint %zu bytes, the caller's buffer after the swap): save_checkpoint median %.2f ms, max %.2f ms; "
+                "append_keyframe median %.1f us, max %.1f us; written %llu, dropped %llu, %.0f bytes each in the file "
+                "(%.0f raw), %.1f bytes/tick of keyframes\n",
+                w.keyframe_interval_ticks(), save_ms.size(), checkpoint.size(), q(save_ms, 0.5), save_ms.back(),
+                q(kf_append_us, 0.5), kf_append_us.back(), static_cast<unsigned long long>(ws.keyframes_written),
+                static_cast<unsigned long long>(ws.keyframes_dropped),
+                ws.keyframes_written ? static_cast<double>(ws.keyframe_bytes) / static_cast<double>(ws.keyframes_written) : 0.0,
+                ws.keyframes_written ? static_cast<double>(ws.keyframe_raw_bytes) / static_cast<double>(ws.keyframes_written) : 0.0,
+                static_cast<double>(ws.keyframe_bytes) / static_cast<double>(ticks));
   std::printf("bytes per tick (tick-block records incl. framing; whole file / ticks in brackets):\n");
   std::printf("  block_ticks  zstd_level  bytes/tick\n");
   for (std::uint32_t block : {1u, 5u, 15u, 30u}) {
@@ -110,16 +134,56 @@ TEST(Measure, DISABLED_BattleLogSizeAppendTimeAndVerifySpeed) {
               static_cast<double>(live.scan().raw_tick_bytes) / static_cast<double>(ticks),
               static_cast<unsigned long long>(live.scan().header_bytes));
 
-  for (bool exact : {false, true}) {
-    ResimOptions ro;
-    ro.exact_interest = exact;
-    const VerifyResult v = verify_log(live, {}, 30, ro);
-    ASSERT_TRUE(v.all_match());
+  std::printf("  live log with keyframes: %.1f bytes/tick whole file (%llu bytes, %zu keyframes = %llu bytes)\n",
+              static_cast<double>(live.scan().file_bytes) / static_cast<double>(ticks),
+              static_cast<unsigned long long>(live.scan().file_bytes), live.scan().keyframes.size(),
+              static_cast<unsigned long long>(live.scan().keyframe_bytes));
+
+  // Seeks: to random ticks (forward and backward), each through the nearest keyframe.
+  {
+    LogPlayer player((dir / "live.tlog").string());
+    std::vector<double> seek_ms;
+    std::mt19937_64 pick(7);
+    for (int i = 0; i < 20; ++i) {
+      const std::uint64_t target = 1 + pick() % ticks;
+      const SeekResult s = player.seek(target);
+      ASSERT_EQ(s.tick, target);
+      ASSERT_EQ(s.hash_mismatches, 0u);
+      seek_ms.push_back(s.ms);
+    }
+    const SeekResult worst = player.seek(ticks - (ticks % 60 == 0 ? 1 : 0));  // the most ticks after a keyframe
+    seek_ms.push_back(worst.ms);
+    std::sort(seek_ms.begin(), seek_ms.end());
+    std::printf("seek (LogPlayer, exact interest, keyframe restore + up to %u ticks): median %.1f ms, max %.1f ms over %zu seeks\n",
+                w.keyframe_interval_ticks() - 1, q(seek_ms, 0.5), seek_ms.back(), seek_ms.size());
+  }
+
+  for (unsigned jobs : {1u, 2u}) {
+    const VerifyResult v = verify_log(live, {}, 30, {}, jobs);
+    ASSERT_TRUE(v.all_match()) << "jobs " << jobs << ": mismatch " << v.mismatch << " at " << v.mismatch_tick
+                               << ", keyframe mismatch " << v.keyframe_mismatch << " at " << v.keyframe_mismatch_tick
+                               << ", verified " << v.ticks_verified << "/" << v.ticks_total << ", from keyframe "
+                               << v.diff_from_tick << " objects " << v.differences.size() << " "
+                               << (v.differences.empty() ? v.diff_note : v.differences.front().what);
     const double n = static_cast<double>(v.ticks_verified);
-    std::printf("verify%s: %llu ticks in %.2f s = %.0f ticks/s = %.1fx real time at %u Hz; per tick: step %.2f ms, ai %.2f ms, "
-                "snapshots %.2f ms, inputs %.3f ms\n",
-                exact ? " --exact-config" : "", static_cast<unsigned long long>(v.ticks_verified), v.seconds, v.ticks_per_second,
-                v.realtime_factor, config.tick_hz, v.step_ms / n, v.ai_ms / n, v.snapshots_ms / n, v.apply_ms / n);
+    if (!v.keyframe_note.empty()) std::printf("  note: %s\n", v.keyframe_note.c_str());
+    std::printf("verify --jobs %u (%llu keyframes compared, %llu segments; segments after the first restore a keyframe and "
+                "re-simulate with the logged interest settings): %llu ticks in "
+                "%.2f s = %.0f ticks/s = %.1fx real time at %u Hz; per tick: step %.2f ms, ai %.2f ms, snapshots %.2f ms, "
+                "inputs %.3f ms\n",
+                jobs, static_cast<unsigned long long>(v.keyframes_checked), static_cast<unsigned long long>(v.segments),
+                static_cast<unsigned long long>(v.ticks_verified), v.seconds, v.ticks_per_second, v.realtime_factor,
+                config.tick_hz, v.step_ms / n, v.ai_ms / n, v.snapshots_ms / n, v.apply_ms / n);
+  }
+  // The same ticks without keyframes (v1-style): the fast interest settings are allowed.
+  {
+    const auto nokf = dir / "nokf.tlog";
+    test::write_played(nokf, recorded, h);
+    MatchLogReader r(nokf.string());
+    const VerifyResult v = verify_log(r, {}, 30, {}, 1);
+    ASSERT_TRUE(v.all_match());
+    std::printf("verify of the same ticks without keyframes (1 cm interest radius): %.2f s = %.1fx real time\n", v.seconds,
+                v.realtime_factor);
   }
 }
 

@@ -56,7 +56,7 @@ class ReplayCli : public ::testing::Test {
 test::PlayedMatch* ReplayCli::played_ = nullptr;
 
 TEST_F(ReplayCli, HelpEverywhere) {
-  for (const char* sub : {"", "info ", "verify ", "export "}) {
+  for (const char* sub : {"", "info ", "verify ", "export ", "seek "}) {
     const CliRun r = run(std::string(sub) + "--help", dir_);
     EXPECT_EQ(r.code, 0) << sub;
     EXPECT_TRUE(has(r.out, "Usage")) << sub << r.out;
@@ -167,6 +167,71 @@ TEST_F(ReplayCli, ExportCsvAndJson) {
   EXPECT_TRUE(has(r.err, "past the last tick")) << r.err;
   r = run("export -q '" + log_.string() + "' --from 3 --format xml", dir_);
   EXPECT_EQ(r.code, 2);
+}
+
+TEST_F(ReplayCli, KeyframesInfoSeekAndParallelVerify) {
+  const auto kf = dir_ / "kf.tlog";
+  test::write_played(kf, played_->ticks, test::match_header(), {}, 0, &played_->keyframes);  // one keyframe: tick 60
+  CliRun r = run("info '" + kf.string() + "'", dir_);
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(has(r.out, "format     version 2")) << r.out;
+  EXPECT_TRUE(has(r.out, "keyframes  1 world keyframes, every 60 ticks (ticks 60..60)")) << r.out;
+  r = run("info --json '" + kf.string() + "'", dir_);
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j.at("keyframes"), 1);
+  EXPECT_EQ(j.at("keyframe_interval_ticks"), 60);
+  EXPECT_GT(j.at("keyframe_bytes").get<std::uint64_t>(), 0u);
+
+  r = run("seek '" + kf.string() + "' --tick 75", dir_);
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
+  EXPECT_TRUE(has(r.out, "seeked to tick 75 from the keyframe of tick 60 (15 ticks re-simulated)")) << r.out;
+  EXPECT_TRUE(has(r.out, ": match")) << r.out;
+  r = run("seek --json '" + kf.string() + "' --tick 59", dir_);
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
+  j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j.at("tick"), 59);
+  EXPECT_EQ(j.at("keyframe_tick"), 0);  // before the first keyframe: from the match start
+  EXPECT_EQ(j.at("ticks_simulated"), 59);
+  EXPECT_EQ(j.at("match"), true);
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(played_->ticks[58].state_hash));
+  EXPECT_EQ(j.at("state_hash"), std::string(hex));
+
+  r = run("verify -q --jobs 2 '" + kf.string() + "'", dir_);
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
+  EXPECT_TRUE(has(r.out, "all state hashes and keyframes match")) << r.out;
+  EXPECT_TRUE(has(r.out, "2 jobs, 2 segments, 1 keyframes compared")) << r.out;
+}
+
+TEST_F(ReplayCli, SeekMismatchAndErrors) {
+  const auto bad = dir_ / "tampered_kf.tlog";
+  test::write_played(bad, played_->ticks, test::match_header(), {}, 70, &played_->keyframes);
+  CliRun r = run("seek '" + bad.string() + "' --tick 70", dir_);
+  EXPECT_EQ(r.code, 1) << r.out << r.err;
+  EXPECT_TRUE(has(r.out, "MISMATCH")) << r.out;
+  r = run("verify -q '" + bad.string() + "'", dir_);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_TRUE(has(r.out, "MISMATCH at tick 70")) << r.out;
+  // 90 ticks, one keyframe (60): none after the divergent tick to compare the world with, and it says so.
+  EXPECT_TRUE(has(r.out, "Objects: no logged keyframe at or after tick 70")) << r.out;
+
+  r = run("seek '" + log_.string() + "' --tick 91", dir_);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r.err, "--tick 91 is outside the ticks that can be re-simulated (1..90)")) << r.err;
+  r = run("seek '" + log_.string() + "' --tick 0", dir_);
+  EXPECT_EQ(r.code, 2);
+  r = run("seek '" + log_.string() + "'", dir_);  // --tick is required
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r.err, "--tick")) << r.err;
+  r = run("seek '" + (dir_ / "missing.tlog").string() + "' --tick 3", dir_);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r.err, "cannot open")) << r.err;
+  r = run("verify --jobs 0 '" + log_.string() + "'", dir_);
+  EXPECT_EQ(r.code, 2);
+  // A log without keyframes seeks from the match start.
+  r = run("seek '" + log_.string() + "' --tick 40", dir_);
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(has(r.out, "from the match start (40 ticks re-simulated)")) << r.out;
 }
 
 }  // namespace

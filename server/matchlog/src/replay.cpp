@@ -66,6 +66,8 @@ struct RangeOutcome {
   bool keyframe_mismatch = false;
   std::uint64_t keyframe_tick = 0;
   std::vector<match::BodyDifference> differences;  // keyframe mismatch: log vs re-simulation
+  std::string where;  // keyframe mismatch: why the checkpoints could not be compared
+  std::string outside_world_note;
   std::uint64_t keyframes_checked = 0;
   double apply_ms = 0, ai_ms = 0, step_ms = 0, snapshots_ms = 0;
   std::string error;
@@ -82,13 +84,18 @@ std::size_t first_keyframe_after(const std::vector<KeyframeInfo>& k, std::uint64
       std::upper_bound(k.begin(), k.end(), tick, [](std::uint64_t t, const KeyframeInfo& x) { return t < x.tick; }) - k.begin());
 }
 
-RangeOutcome verify_range(const MatchLogReader& reader, const ResimOptions& options, Range range, bool check_keyframes,
+RangeOutcome verify_range(const MatchLogReader& reader, ResimOptions options, Range range, bool check_keyframes,
                           std::atomic<std::uint64_t>& earliest_failure, std::atomic<std::uint64_t>& done,
                           const std::function<void()>& tick_done) {
   RangeOutcome o;
   o.verified_through = range.start;
   try {
     const auto& kfs = reader.scan().keyframes;
+    // Restoring a keyframe needs the logged config; the range from the match start does not, and
+    // keeps the faster interest settings unless asked otherwise (keyframes are then compared on
+    // their world section only, which does not depend on the interest settings).
+    if (range.start > 0) options.exact_interest = true;
+    const bool exact = options.exact_interest;
     Resimulator sim(reader.header(), options);
     std::vector<std::uint8_t> logged, mine;
     if (range.start > 0) {
@@ -127,15 +134,34 @@ RangeOutcome verify_range(const MatchLogReader& reader, const ResimOptions& opti
         sim.match().save_checkpoint(mine);
         ++o.keyframes_checked;
         ++next_kf;
-        if (logged != mine) {
-          o.keyframe_mismatch = true;
-          o.keyframe_tick = tick;
+        if (!exact || logged != mine) {
+          // The world must be equal (bodies: pose, velocities, parameters, ...): a difference is a
+          // divergence even when the hash missed it. Outside the world (NPC AI, clients, snapshot
+          // baselines) a difference is reported, not failed: the world and every hash still match.
+          bool world_differs = false;
           try {
             o.differences = match::diff_checkpoints(logged, mine, 20);
-          } catch (const std::exception&) {  // reported as a keyframe mismatch without objects
+            world_differs = !o.differences.empty();
+          } catch (const std::exception& e) {
+            world_differs = true;
+            o.where = e.what();
           }
-          lower_to(earliest_failure, tick);
-          break;
+          if (world_differs) {
+            o.keyframe_mismatch = true;
+            o.keyframe_tick = tick;
+            lower_to(earliest_failure, tick);
+            break;
+          }
+          if (exact && o.outside_world_note.empty()) {
+            const auto at = std::mismatch(logged.begin(), logged.end(), mine.begin(), mine.end());
+            o.outside_world_note = fmt::format(
+                "at the keyframe of tick {} (re-simulated from {}) the world and the state hashes match but the rest of "
+                "the checkpoint differs ({} bytes logged, {} re-simulated, first difference at byte {}): match state "
+                "outside the world (NPC AI, clients or snapshot baselines) did not survive the keyframe restore or "
+                "re-simulation exactly",
+                tick, range.start == 0 ? std::string("the match start") : fmt::format("the keyframe of tick {}", range.start),
+                logged.size(), mine.size(), at.first - logged.begin());
+          }
         }
       }
       if (tick_done) tick_done();
@@ -164,7 +190,6 @@ VerifyResult verify_log(MatchLogReader& reader, const VerifyProgress& progress, 
   const auto t0 = Clock::now();
   const std::uint64_t contiguous_last = s.ticks == 0 ? 0 : (s.gaps.empty() ? s.last_tick : s.gaps.front().first_tick - 1);
   const bool keyframes = !s.keyframes.empty();
-  if (keyframes) options.exact_interest = true;  // checkpoints carry (and check) the logged config
   jobs = std::max(1u, jobs);
 
   // Keyframe-aligned ranges: more than jobs, so a slow stretch of the match does not leave
@@ -220,6 +245,7 @@ VerifyResult verify_log(MatchLogReader& reader, const VerifyProgress& progress, 
     v.step_ms += o.step_ms;
     v.snapshots_ms += o.snapshots_ms;
     v.keyframes_checked += o.keyframes_checked;
+    if (v.keyframe_note.empty()) v.keyframe_note = o.outside_world_note;
     if (!o.error.empty()) throw LogError(o.error);
     if (o.mismatch) {
       v.mismatch = true;
@@ -236,9 +262,7 @@ VerifyResult verify_log(MatchLogReader& reader, const VerifyProgress& progress, 
       v.differences = o.differences;
       v.diff_from_tick = ranges[i].start;
       v.diff_tick = o.keyframe_tick;
-      if (v.differences.empty())
-        v.diff_note = "the world sections are equal: what differs is match state outside the world (NPC AI, clients, "
-                      "snapshot baselines)";
+      if (v.differences.empty()) v.diff_note = "the keyframes could not be compared: " + o.where;
       break;
     }
     if (o.verified_through != ranges[i].end) break;  // cannot happen without a failure above

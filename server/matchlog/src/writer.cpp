@@ -204,8 +204,7 @@ void MatchLogWriter::append_tick(std::uint64_t tick, const match::TickInputs& in
   else hist_over_.fetch_add(1, std::memory_order_relaxed);
 }
 
-void MatchLogWriter::append_keyframe(std::uint64_t tick, std::span<const std::uint8_t> checkpoint) {
-  const Clock::time_point t0 = Clock::now();
+MatchLogWriter::KeyframeSlot* MatchLogWriter::keyframe_slot(std::uint64_t tick) {
   if (!began_ || closed_) throw std::logic_error("MatchLogWriter::append_keyframe before begin() or after close()");
   if (opt_.keyframe_interval_ticks == 0)
     throw std::invalid_argument("MatchLogWriter::append_keyframe: keyframes are off (keyframe_interval_ticks = 0)");
@@ -219,13 +218,32 @@ void MatchLogWriter::append_keyframe(std::uint64_t tick, std::span<const std::ui
   const std::uint64_t t = kf_tail_.load(std::memory_order_acquire);
   if (last_tick_dropped_ || io_failed_.load(std::memory_order_relaxed) || h - t >= kf_ring_.size()) {
     kf_dropped_.fetch_add(1, std::memory_order_relaxed);
-  } else {
-    KeyframeSlot& s = kf_ring_[h % kf_ring_.size()];
-    s.tick = tick;
-    s.bytes.assign(checkpoint.begin(), checkpoint.end());
-    kf_head_.store(h + 1, std::memory_order_release);
+    return nullptr;
   }
+  KeyframeSlot& s = kf_ring_[h % kf_ring_.size()];
+  s.tick = tick;
+  return &s;
+}
+
+void MatchLogWriter::publish_keyframe(Clock::time_point t0) {
+  kf_head_.store(kf_head_.load(std::memory_order_relaxed) + 1, std::memory_order_release);
   atomic_max(max_kf_append_ns_, ns_between(t0, Clock::now()));
+}
+
+void MatchLogWriter::append_keyframe(std::uint64_t tick, std::span<const std::uint8_t> checkpoint) {
+  const Clock::time_point t0 = Clock::now();
+  KeyframeSlot* s = keyframe_slot(tick);
+  if (s == nullptr) return;
+  s->bytes.assign(checkpoint.begin(), checkpoint.end());
+  publish_keyframe(t0);
+}
+
+void MatchLogWriter::append_keyframe_swap(std::uint64_t tick, std::vector<std::uint8_t>& checkpoint) {
+  const Clock::time_point t0 = Clock::now();
+  KeyframeSlot* s = keyframe_slot(tick);
+  if (s == nullptr) return;
+  s->bytes.swap(checkpoint);
+  publish_keyframe(t0);
 }
 
 bool MatchLogWriter::resolve_keyframe() {

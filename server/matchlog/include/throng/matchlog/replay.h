@@ -63,8 +63,8 @@ struct VerifyResult {
   unsigned jobs = 1;                 // threads used
   std::uint64_t segments = 1;        // keyframe-aligned pieces verified independently (each but the first from its keyframe)
   std::uint64_t keyframes_checked = 0;  // logged keyframes the re-simulated checkpoint was compared with
-  // The state hashes matched up to a keyframe tick but the re-simulated checkpoint differs from
-  // the logged one there (state the hash does not cover, e.g. NPC AI or client records).
+  // The state hashes matched up to a keyframe tick but the re-simulated world differs from the
+  // logged keyframe's world there (differences names the objects).
   bool keyframe_mismatch = false;
   std::uint64_t keyframe_mismatch_tick = 0;
   // On a mismatch in a log with keyframes: the objects whose state differs at diff_tick (the first
@@ -72,6 +72,10 @@ struct VerifyResult {
   std::vector<match::BodyDifference> differences;
   std::uint64_t diff_from_tick = 0, diff_tick = 0;
   std::string diff_note;             // why no objects could be named ("" when differences says it)
+  // Not a failure: with the logged interest settings the whole checkpoint is compared too; the first
+  // keyframe whose world matched but whose other match state (NPC AI, clients, snapshot baselines)
+  // did not is described here.
+  std::string keyframe_note;
   std::uint64_t ticks_total = 0;     // readable ticks in the log
   std::uint64_t ticks_verified = 0;  // ticks whose hash matched, from tick 1 on
   bool mismatch = false;
@@ -90,12 +94,13 @@ struct VerifyResult {
 // progress(done, total) is called every progress_every ticks (jobs > 1: about every 0.2 s) and
 // once at the end, always from the calling thread.
 //
-// A log with keyframes (format version 2) is re-simulated with the logged config
-// (exact_interest is forced on, see ResimOptions) and at every logged keyframe the re-simulated
-// checkpoint must equal the logged one byte for byte. jobs > 1 splits the log into keyframe-
-// aligned segments verified in parallel, each but the first starting from its logged keyframe
-// (the restore is proven by the segment's first hash check and its next keyframe comparison);
-// the result is the same as with jobs = 1. Without keyframes jobs is ignored (one segment).
+// A log with keyframes (format version 2): at every logged keyframe the re-simulated world must
+// equal the keyframe's world (diff_checkpoints; a difference is keyframe_mismatch with the objects
+// named); with exact_interest the whole checkpoint is compared as well (see keyframe_note). jobs > 1
+// splits the log into keyframe-aligned segments verified in parallel, each but the first starting
+// from its logged keyframe with the logged config (a checkpoint restores only into it; the restore
+// is proven by the segment's first hash check and its next keyframe comparison); the result is the
+// same as with jobs = 1. Without keyframes jobs is ignored (one segment).
 using VerifyProgress = std::function<void(std::uint64_t done, std::uint64_t total)>;
 VerifyResult verify_log(MatchLogReader& reader, const VerifyProgress& progress = {}, std::uint64_t progress_every = 30,
                         ResimOptions options = {}, unsigned jobs = 1);
