@@ -2,6 +2,9 @@
 // --from..--to as CSV or JSON. Every re-simulated tick is checked against the logged hash, so an
 // export is never silently of a different match.
 #include <cstdio>
+#include <cstring>
+#include <stdexcept>
+#include <vector>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -16,19 +19,62 @@
 namespace throng::replay {
 namespace {
 
+// Facing (yaw, radians) of every body in the world's dense order. The match keeps it outside the
+// World (commands set it for controlled bodies, the NPC AI for the rest) and has no accessor for it
+// yet, so it is read from the match's checkpoint, whose layout is documented
+// (server/match/src/CHECKPOINT.md, version 1): header (magic u32, version u32, scene hash u64,
+// config hash u64, body count u32, tick u64), world section (u32 length + bytes), shutdown u8,
+// info-dirty u8, rejected array<u64>, accepted u64, yaw array<f32> (dense order), ... A Match
+// accessor would make this one call; until then another checkpoint version is a clear error.
+class Facing {
+ public:
+  const std::vector<float>& read(const match::Match& m) {
+    m.save_checkpoint(buf_);
+    std::size_t at = 0;
+    auto u32 = [&] {
+      if (at + 4 > buf_.size()) throw std::runtime_error("export: checkpoint too short to hold the facing");
+      std::uint32_t v;
+      std::memcpy(&v, buf_.data() + at, 4);
+      at += 4;
+      return v;
+    };
+    const std::uint32_t magic = u32(), version = u32();
+    if (magic != 0x4B434D54u || version != 1)
+      throw std::runtime_error(fmt::format("export: the facing is read from the match checkpoint, whose layout this build "
+                                           "of export knows only in version 1 (this is version {})", version));
+    at += 8 + 8;                       // scene and config hashes
+    const std::uint32_t bodies = u32();
+    at += 8;                           // tick
+    at += u32();                       // world section
+    at += 2;                           // shutdown, info dirty
+    at += 8 * static_cast<std::size_t>(u32()) + 8;  // rejected by reason, accepted total
+    const std::uint32_t n = u32();
+    if (n != bodies || at + 4 * static_cast<std::size_t>(n) > buf_.size())
+      throw std::runtime_error("export: the checkpoint's facing array does not match its body count");
+    yaw_.resize(n);
+    std::memcpy(yaw_.data(), buf_.data() + at, 4 * static_cast<std::size_t>(n));
+    return yaw_;
+  }
+
+ private:
+  std::vector<std::uint8_t> buf_;
+  std::vector<float> yaw_;
+};
+
 class Sink {
  public:
   virtual ~Sink() = default;
   virtual void begin() = 0;
-  virtual void tick(std::uint64_t tick, std::uint64_t hash, const World& w) = 0;
+  // yaw: facing per body in the world's dense order (Facing::read).
+  virtual void tick(std::uint64_t tick, std::uint64_t hash, const World& w, const std::vector<float>& yaw) = 0;
   virtual void end() = 0;
 };
 
 class CsvSink : public Sink {
  public:
   CsvSink(std::ostream& os, bool poses, bool pushes) : os_(os), poses_(poses), pushes_(pushes) {}
-  void begin() override { os_ << "record,tick,id,x,y,z,vx,vy,vz,other_id,depth_m,share_a,push_m\n"; }
-  void tick(std::uint64_t tick, std::uint64_t, const World& w) override {
+  void begin() override { os_ << "record,tick,id,x,y,z,vx,vy,vz,yaw,other_id,depth_m,share_a,push_m\n"; }
+  void tick(std::uint64_t tick, std::uint64_t, const World& w, const std::vector<float>& yaw) override {
     std::string line;
     if (poses_) {
       const auto x = w.pos_x(), y = w.pos_y(), z = w.pos_z();
@@ -36,14 +82,15 @@ class CsvSink : public Sink {
         const ObjectId id = w.id_at(d);
         const Vec3 v = w.velocity(id);
         line.clear();
-        fmt::format_to(std::back_inserter(line), "pose,{},{},{},{},{},{},{},{},,,,\n", tick, id.value, x[d], y[d], z[d], v.x, v.y, v.z);
+        fmt::format_to(std::back_inserter(line), "pose,{},{},{},{},{},{},{},{},{},,,,\n", tick, id.value, x[d], y[d], z[d], v.x,
+                       v.y, v.z, yaw[d]);
         os_ << line;
       }
     }
     if (pushes_) {
       for (const PushEvent& e : w.push_events()) {
         line.clear();
-        fmt::format_to(std::back_inserter(line), "push,{},{},,,,,,,{},{},{},{}\n", tick, e.a.value, e.b.value, e.depth_m, e.share_a,
+        fmt::format_to(std::back_inserter(line), "push,{},{},,,,,,,,{},{},{},{}\n", tick, e.a.value, e.b.value, e.depth_m, e.share_a,
                        e.push_m);
         os_ << line;
       }
@@ -63,11 +110,11 @@ class JsonSink : public Sink {
   void begin() override {
     os_ << fmt::format(
         "{{\"match_id\":\"{}\",\"scene\":\"{}\",\"tick_hz\":{},\"from\":{},\"to\":{},\n"
-        "\"pose_fields\":[\"id\",\"x\",\"y\",\"z\",\"vx\",\"vy\",\"vz\"],\n"
+        "\"pose_fields\":[\"id\",\"x\",\"y\",\"z\",\"vx\",\"vy\",\"vz\",\"yaw\"],\n"
         "\"push_fields\":[\"a\",\"b\",\"depth_m\",\"share_a\",\"push_m\"],\n\"ticks\":[\n",
         escape(h_.match_id), escape(h_.scene.name), h_.config.tick_hz, from_, to_);
   }
-  void tick(std::uint64_t tick, std::uint64_t hash, const World& w) override {
+  void tick(std::uint64_t tick, std::uint64_t hash, const World& w, const std::vector<float>& yaw) override {
     std::string s;
     auto out = std::back_inserter(s);
     fmt::format_to(out, "{}{{\"tick\":{},\"state_hash\":\"{:016x}\"", first_ ? "" : ",\n", tick, hash);
@@ -78,7 +125,7 @@ class JsonSink : public Sink {
       for (std::size_t d = 0; d < w.body_count(); ++d) {
         const ObjectId id = w.id_at(d);
         const Vec3 v = w.velocity(id);
-        fmt::format_to(out, "{}[{},{},{},{},{},{},{}]", d == 0 ? "" : ",", id.value, x[d], y[d], z[d], v.x, v.y, v.z);
+        fmt::format_to(out, "{}[{},{},{},{},{},{},{},{}]", d == 0 ? "" : ",", id.value, x[d], y[d], z[d], v.x, v.y, v.z, yaw[d]);
       }
       s += "]";
     }
@@ -157,6 +204,7 @@ int run_export(const ExportOptions& o) {
     ro.record_push_events = o.pushes;
     ro.exact_interest = o.exact_config;
     matchlog::Resimulator sim(reader->header(), ro);
+    Facing facing;
     sink->begin();
     matchlog::TickRecord t;
     reader->rewind();
@@ -171,7 +219,10 @@ int run_export(const ExportOptions& o) {
                    tick, expected, actual);
         return kExitMismatch;
       }
-      if (tick >= o.from) sink->tick(tick, actual, sim.match().world());
+      if (tick >= o.from) {
+        static const std::vector<float> none;
+        sink->tick(tick, actual, sim.match().world(), o.poses ? facing.read(sim.match()) : none);
+      }
       if (tick % 30 == 0 || tick == to) progress.update(tick, to);
     }
     sink->end();

@@ -53,7 +53,7 @@ int main(int argc, char** argv) {
 
   ExportOptions ex;
   CLI::App* export_cmd = app.add_subcommand(
-      "export", "Re-simulate to --to and write poses (id, x, y, z, vx, vy, vz) and push events (a, b, depth, share_a, "
+      "export", "Re-simulate to --to and write poses (id, x, y, z, vx, vy, vz, yaw = facing in radians) and push events (a, b, depth, share_a, "
                 "push) of ticks --from..--to");
   export_cmd->add_option("LOG", ex.log, "match log file")->required();
   export_cmd->add_option("--from", ex.from, "first tick to write (ticks start at 1)")->check(CLI::PositiveNumber);

@@ -4,13 +4,16 @@
 #include <sys/wait.h>
 
 #include <cstdlib>
+#include <cmath>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "matchlog_test_util.h"
+#include "throng/matchlog/log_player.h"
 
 namespace throng::matchlog {
 namespace {
@@ -139,7 +142,7 @@ TEST_F(ReplayCli, ExportCsvAndJson) {
   std::ifstream in(csv);
   std::string line;
   std::getline(in, line);
-  EXPECT_EQ(line, "record,tick,id,x,y,z,vx,vy,vz,other_id,depth_m,share_a,push_m");
+  EXPECT_EQ(line, "record,tick,id,x,y,z,vx,vy,vz,yaw,other_id,depth_m,share_a,push_m");
   std::size_t poses = 0, pushes = 0;
   std::set<std::string> ticks;
   while (std::getline(in, line)) {
@@ -159,7 +162,8 @@ TEST_F(ReplayCli, ExportCsvAndJson) {
   ASSERT_EQ(j.at("ticks").size(), 2u);
   EXPECT_EQ(j.at("ticks")[0].at("tick"), 5);
   EXPECT_EQ(j.at("ticks")[0].at("poses").size(), test::small_battle().agent_count());
-  EXPECT_EQ(j.at("ticks")[0].at("poses")[0].size(), 7u);
+  EXPECT_EQ(j.at("ticks")[0].at("poses")[0].size(), 8u);
+  EXPECT_EQ(j.at("pose_fields").back(), "yaw");
   EXPECT_FALSE(j.at("ticks")[0].contains("pushes"));
 
   r = run("export -q '" + log_.string() + "' --from 80 --to 95", dir_);
@@ -232,6 +236,48 @@ TEST_F(ReplayCli, SeekMismatchAndErrors) {
   r = run("seek '" + log_.string() + "' --tick 40", dir_);
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(has(r.out, "from the match start (40 ticks re-simulated)")) << r.out;
+}
+
+TEST_F(ReplayCli, ExportYawIsTheFacing) {
+  // The facing of a client's entity is its last command's facing_rad; snapshots carry it unquantized
+  // as entity_yaw. NPCs face where the AI turned them.
+  const auto json = dir_ / "yaw.json";
+  const CliRun r = run("export -q '" + log_.string() + "' --from 40 --to 41 --format json --no-pushes --out '" + json.string() + "'", dir_);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(slurp(json));
+  std::map<std::uint32_t, float> yaw;
+  std::size_t turned = 0;
+  for (const auto& p : j.at("ticks")[1].at("poses")) {
+    const float y = p.at(7).get<float>();
+    EXPECT_LE(std::abs(y), 3.1416f);
+    yaw[p.at(0).get<std::uint32_t>()] = y;
+    if (y != 0.0f) ++turned;
+  }
+  EXPECT_GT(turned, yaw.size() / 2);
+  LogPlayer player(log_.string());
+  player.seek(41);
+  ASSERT_EQ(player.outbox().snapshot_count, 6u);
+  for (std::size_t i = 0; i < player.outbox().snapshot_count; ++i) {
+    const auto& s = player.outbox().snapshots[i];
+    ASSERT_EQ(yaw.count(s.entity), 1u);
+    EXPECT_EQ(yaw[s.entity], s.entity_yaw) << "client " << s.client_id;
+  }
+  // CSV: the same column.
+  const auto csv = dir_ / "yaw.csv";
+  ASSERT_EQ(run("export -q '" + log_.string() + "' --from 41 --format csv --no-pushes --out '" + csv.string() + "'", dir_).code, 0);
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  std::size_t rows = 0;
+  while (std::getline(in, line)) {
+    std::vector<std::string> f;
+    std::stringstream ss(line);
+    for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
+    ASSERT_GE(f.size(), 10u) << line;
+    EXPECT_FLOAT_EQ(std::stof(f[9]), yaw[static_cast<std::uint32_t>(std::stoul(f[2]))]) << line;
+    ++rows;
+  }
+  EXPECT_EQ(rows, yaw.size());
 }
 
 }  // namespace
