@@ -80,7 +80,7 @@ bool check_playable(const PlayOptions& o, const matchlog::LogPlayer& player) {
   return true;
 }
 
-void print_notes(const PlayOptions& o, const matchlog::LogPlayer& player) {
+void print_notes(const matchlog::LogPlayer& player) {
   const auto& h = player.header();
   const auto& s = player.scan();
   if (h.build_id != matchlog::default_build_id())
@@ -92,8 +92,9 @@ void print_notes(const PlayOptions& o, const matchlog::LogPlayer& player) {
                s.problem.empty() ? "the writer dropped ticks after it" : s.problem);
   else if (s.end != matchlog::LogEnd::closed)
     fmt::print(stderr, "note: {}\n", s.problem);
-  (void)o;
 }
+
+enum class StopReason { end_of_log, signal, strict_mismatch };
 
 }  // namespace
 
@@ -106,7 +107,7 @@ int run_play(const PlayOptions& o) {
     return kExitBadInput;
   }
   if (!check_playable(o, *player)) return kExitBadInput;
-  print_notes(o, *player);
+  print_notes(*player);
   const auto& h = player->header();
   const double hz = static_cast<double>(player->tick_hz()) * o.speed;
 
@@ -141,13 +142,14 @@ int run_play(const PlayOptions& o) {
   server::TickSchedule schedule(period, 3, started);
   PlayProgress progress(!o.quiet, player->last_tick(), started);
   std::uint64_t loops = 0;
-  const char* stopped_by = "the end of the log";
+  StopReason stop = StopReason::end_of_log;
+  int signo = 0;
   double work_s = 0.0;
   bool warned_mismatch = false;
 
   for (;;) {
-    if (g_signal.load() != 0) {
-      stopped_by = g_signal.load() == SIGINT ? "SIGINT" : "SIGTERM";
+    if ((signo = g_signal.load()) != 0) {
+      stop = StopReason::signal;
       break;
     }
     std::this_thread::sleep_until(schedule.next_deadline());
@@ -174,7 +176,7 @@ int run_play(const PlayOptions& o) {
     work_s = seconds(done - woke);
     schedule.end_tick(done);
     if (session.last_tick_mismatched() && o.strict) {
-      stopped_by = "a hash mismatch (--strict)";
+      stop = StopReason::strict_mismatch;
       break;
     }
     const double elapsed = seconds(done - started);
@@ -191,6 +193,10 @@ int run_play(const PlayOptions& o) {
   const double played_rate = wall > 0 ? static_cast<double>(t.ticks_played) / wall : 0.0;
   fmt::print("throng-replay play summary\n");
   fmt::print("  log: {} (match {}, scene '{}', {} Hz)\n", o.log, h.match_id, h.scene.name, player->tick_hz());
+  const char* stopped_by = stop == StopReason::end_of_log ? "the end of the log"
+                           : stop == StopReason::strict_mismatch ? "a hash mismatch (--strict)"
+                           : signo == SIGINT                  ? "SIGINT"
+                                                              : "SIGTERM";
   fmt::print("  stopped by: {} at tick {}{}\n", stopped_by, player->tick(), loops ? fmt::format(" ({} loops)", loops) : "");
   fmt::print("  ticks played: {} in {:.2f} s = {:.2f} ticks/s (target {:.2f}: {:.4f} x; overruns {}, ticks' time given up {})\n",
              t.ticks_played, wall, played_rate, hz, hz > 0 ? played_rate / hz : 0.0, schedule.overruns(), schedule.skipped());
@@ -208,9 +214,9 @@ int run_play(const PlayOptions& o) {
   std::fflush(stdout);
 
   if (t.hash_mismatches > 0) return kExitMismatch;
-  const bool reached_end = std::string(stopped_by) == "the end of the log";
+  // Reached the end of what could be played, but the log goes on past damage or a gap: as verify.
   const auto& s = player->scan();
-  if (reached_end && (player->last_tick() < s.last_tick || s.end == matchlog::LogEnd::corrupt)) return kExitDamaged;
+  if (stop == StopReason::end_of_log && (player->last_tick() < s.last_tick || s.end == matchlog::LogEnd::corrupt)) return kExitDamaged;
   return kExitOk;
 }
 
