@@ -28,7 +28,8 @@ TEST(ServerProcess, SigtermEndsTheMatchGracefully) {
   TestClient client(151);
   const auto r = client.join(12, "witness");
   ASSERT_TRUE(r && r->result == protocol::JoinResult::accepted) << read_file(dir / "err.txt");
-  ASSERT_TRUE(client.wait_until([&] { return client.snapshots().size() >= 5; }));
+  // Past tick 60, so the log holds a world keyframe (one every 60 ticks at 30 Hz).
+  ASSERT_TRUE(client.wait_until([&] { return client.snapshots().size() >= 75; }, 15s));
   server.signal(SIGTERM);
   EXPECT_EQ(server.wait(10s), 0) << read_file(dir / "err.txt");
   // Clients are told the match ended.
@@ -46,6 +47,14 @@ TEST(ServerProcess, SigtermEndsTheMatchGracefully) {
   ChildProcess replay(std::string(THRONG_BIN_DIR) + "/throng-replay", {"verify", (dir / "match.tlog").string()},
                       dir / "verify.txt", dir / "verify.err");
   EXPECT_EQ(replay.wait(60s), 0) << read_file(dir / "verify.txt") << read_file(dir / "verify.err");
+  EXPECT_NE(read_file(dir / "verify.txt").find("all state hashes and keyframes match"), std::string::npos)
+      << read_file(dir / "verify.txt");
+  EXPECT_NE(err.find("match log keyframes: "), std::string::npos) << err;  // count, bytes, save/append times
+  // And a seek through that keyframe lands on the logged state.
+  ChildProcess seek(std::string(THRONG_BIN_DIR) + "/throng-replay", {"seek", (dir / "match.tlog").string(), "--tick", "65"},
+                    dir / "seek.txt", dir / "seek.err");
+  EXPECT_EQ(seek.wait(60s), 0) << read_file(dir / "seek.txt") << read_file(dir / "seek.err");
+  EXPECT_NE(read_file(dir / "seek.txt").find("from the keyframe of tick 60"), std::string::npos) << read_file(dir / "seek.txt");
 }
 
 std::string http_get(std::uint16_t port, const std::string& path) {

@@ -14,6 +14,10 @@
 //   std::uint8_t flags = shutdown_called_before_this_tick ? matchlog::kTickShutdownBegan : 0;
 //   const auto& r = match.tick(outbox);
 //   log.append_tick(r.tick, match.last_inputs(), r.state_hash, flags);   // never blocks, never throws
+//   if (r.tick % log.keyframe_interval_ticks() == 0) {   // a world keyframe every ~2 s (format v2)
+//     match.save_checkpoint(buffer);                     // reused buffer: no allocation once warm
+//     log.append_keyframe_swap(r.tick, buffer);          // O(1); dropped (counted) if the writer is behind
+//   }
 //   // once a second (e.g. with the other metrics):
 //   const matchlog::WriterStats s = log.stats();  // backlog, drops, I/O error -> metric + log line
 //   // at the end (after the final tick):
