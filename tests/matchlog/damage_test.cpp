@@ -6,6 +6,7 @@
 #include <set>
 
 #include "matchlog_test_util.h"
+#include "throng/matchlog/crc32c.h"
 #include "throng/matchlog/format.h"
 #include "throng/matchlog/reader.h"
 
@@ -225,6 +226,70 @@ TEST(Damage, HeaderProblemsAreClearErrors) {
   EXPECT_NE(open_error(p).find("not a Throng match log"), std::string::npos) << open_error(p);
 
   EXPECT_NE(open_error(dir / "missing.tlog").find("cannot open"), std::string::npos);
+}
+
+// Frames a record as the writer does (length, type, payload, CRC-32C over the three).
+std::vector<std::uint8_t> framed(std::uint8_t type, const std::vector<std::uint8_t>& payload) {
+  std::vector<std::uint8_t> r;
+  const auto n = static_cast<std::uint32_t>(payload.size());
+  for (int k = 0; k < 4; ++k) r.push_back(static_cast<std::uint8_t>(n >> (8 * k)));
+  r.push_back(type);
+  r.insert(r.end(), payload.begin(), payload.end());
+  const std::uint32_t c = crc32c(r.data(), r.size());
+  for (int k = 0; k < 4; ++k) r.push_back(static_cast<std::uint8_t>(c >> (8 * k)));
+  return r;
+}
+
+TEST(Damage, FormatVersionOneLogsAreStillRead) {
+  // A version 1 file: preamble and header say 1, tick blocks as today, index records without the
+  // keyframe part, no keyframes.
+  const auto dir = test::test_dir();
+  const auto ticks = test::write_random_log(dir / "v2.tlog", 40, {}, 5);
+  const auto v2 = test::read_bytes(dir / "v2.tlog");
+  const auto recs = walk(v2);
+  std::string text(v2.begin() + static_cast<std::ptrdiff_t>(recs.front().start + 5),
+                   v2.begin() + static_cast<std::ptrdiff_t>(recs.front().end - 4));
+  const auto at = text.find("\"format_version\":2");
+  ASSERT_NE(at, std::string::npos);
+  text[at + 17] = '1';
+  const std::string kf_field = ",\"keyframe_interval_ticks\":60";  // v1 writers did not know it
+  const auto kat = text.find(kf_field);
+  ASSERT_NE(kat, std::string::npos) << text.substr(0, 400);
+  text.erase(kat, kf_field.size());
+  std::vector<std::uint8_t> v1(v2.begin(), v2.begin() + 8);
+  for (std::uint8_t b : {1, 0, 0, 0}) v1.push_back(b);
+  const auto h = framed(1, std::vector<std::uint8_t>(text.begin(), text.end()));
+  v1.insert(v1.end(), h.begin(), h.end());
+  for (const Rec& r : recs)
+    if (r.type == static_cast<std::uint8_t>(RecordType::tick_block))
+      v1.insert(v1.end(), v2.begin() + static_cast<std::ptrdiff_t>(r.start), v2.begin() + static_cast<std::ptrdiff_t>(r.end));
+  const std::vector<std::uint8_t> empty_index(13, 0);  // prev 0, periodic, 0 entries (v1 layout)
+  const auto idx = framed(3, empty_index);
+  v1.insert(v1.end(), idx.begin(), idx.end());
+  const auto p = dir / "v1.tlog";
+  test::write_bytes(p, v1, v1.size());
+  {
+    MatchLogReader r(p.string());
+    EXPECT_EQ(r.scan().format_version, 1u);
+    EXPECT_EQ(r.header().format_version, 1u);
+    EXPECT_EQ(r.scan().end, LogEnd::unclosed) << r.scan().problem;
+    EXPECT_EQ(r.scan().ticks, 40u);
+    EXPECT_EQ(r.scan().index_records, 1u);
+    EXPECT_TRUE(r.scan().keyframes.empty());
+    EXPECT_EQ(r.header().writer.keyframe_interval_ticks, 0u);
+    TickRecord t;
+    for (std::size_t i = 0; r.next(t); ++i) ASSERT_EQ(t.state_hash, ticks[i].state_hash);
+  }
+  // A keyframe record has no place in a version 1 log.
+  std::vector<std::uint8_t> kf_payload(13, 0);
+  kf_payload[0] = 40;  // tick 40, codec raw, size 0
+  const auto kf = framed(6, kf_payload);
+  auto bad = v1;
+  bad.insert(bad.end(), kf.begin(), kf.end());
+  test::write_bytes(p, bad, bad.size());
+  MatchLogReader r(p.string());
+  EXPECT_EQ(r.scan().end, LogEnd::corrupt);
+  EXPECT_NE(r.scan().problem.find("a keyframe record in a format version 1 log"), std::string::npos) << r.scan().problem;
 }
 
 }  // namespace
