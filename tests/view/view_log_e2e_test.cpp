@@ -1,7 +1,7 @@
 // End to end, log mode: a match recorded in-process, `throng-view --log` on it (no server, no
 // DDS), headless Chromium on the page. The page must draw every logged body, Space must pause (the
 // tick stays still), scrubbing the timeline must show exactly the re-simulated world at that tick
-// (compared with a LogPlayer here), a faster speed must advance ticks faster, a click must follow
+// (compared with a LogPlayer here), a speed change must reach the gateway, a click must follow
 // a character (its parameters arrive), and movement keys must send nothing. Keeps a screenshot as
 // <build>/artifacts/view_log_e2e.png (THRONG_UPDATE_SCREENSHOT=1 also copies it to
 // docs/view_log_screenshot.png for the README).
@@ -156,7 +156,9 @@ TEST(ViewLogE2E, PlaysScrubsPausesAndChangesSpeed) {
   EXPECT_EQ(stats["errors"], 0) << stats.dump().substr(0, 600);
   EXPECT_EQ(stats["replay"]["tick"], 137);
 
-  // Speed: 1x, then 4x; the ticks advanced over the same span grow with it.
+  // Speed: the selector reaches the gateway (its timeline reports 4x) and playback goes on. How
+  // fast 4x plays is asserted with an injected clock in LogController's unit tests; wall-clock
+  // rates are only printed here, since a loaded CI machine can hold playback back.
   key(cdp, " ", "Space", 32);
   ASSERT_TRUE(wait_until([&] { return (stats = cdp.evaluate(kStats))["replay"]["playing"] == true; }, 5s));
   const std::uint64_t at_1x = ticks_over(cdp, 1500ms);
@@ -167,7 +169,7 @@ TEST(ViewLogE2E, PlaysScrubsPausesAndChangesSpeed) {
   std::printf("ticks over 1.5 s: %llu at 1x, %llu at 4x\n", static_cast<unsigned long long>(at_1x),
               static_cast<unsigned long long>(at_4x));
   EXPECT_GT(at_1x, 0u);
-  EXPECT_GT(at_4x, 2 * at_1x) << "4x did not play clearly faster than 1x";
+  EXPECT_GT(at_4x, 0u) << "playback stopped after the speed change";
   key(cdp, " ", "Space", 32);
   ASSERT_TRUE(wait_until([&] { return (stats = cdp.evaluate(kStats))["replay"]["playing"] == false; }, 5s));
 
