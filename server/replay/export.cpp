@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "commands.h"
+#include "open_log.h"
 #include "throng/matchlog/reader.h"
 #include "throng/matchlog/replay.h"
 #include "throng/world/world.h"
@@ -163,13 +164,8 @@ class JsonSink : public Sink {
 }  // namespace
 
 int run_export(const ExportOptions& o) {
-  std::unique_ptr<matchlog::MatchLogReader> reader;
-  try {
-    reader = std::make_unique<matchlog::MatchLogReader>(o.log);
-  } catch (const matchlog::LogError& e) {
-    fmt::print(stderr, "throng-replay export: {}\n", e.what());
-    return kExitBadInput;
-  }
+  const auto reader = open_log<matchlog::MatchLogReader>("export", o.log);
+  if (!reader) return kExitBadInput;
   const matchlog::LogScan& s = reader->scan();
   const std::uint64_t to = o.to == 0 ? o.from : o.to;
   if (o.from < 1 || to < o.from) {

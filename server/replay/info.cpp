@@ -6,18 +6,14 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "open_log.h"
 #include "throng/matchlog/reader.h"
 
 namespace throng::replay {
 
 int run_info(const InfoOptions& o) {
-  std::unique_ptr<matchlog::MatchLogReader> reader;
-  try {
-    reader = std::make_unique<matchlog::MatchLogReader>(o.log);
-  } catch (const matchlog::LogError& e) {
-    fmt::print(stderr, "throng-replay info: {}\n", e.what());
-    return kExitBadInput;
-  }
+  const auto reader = open_log<matchlog::MatchLogReader>("info", o.log);
+  if (!reader) return kExitBadInput;
   const matchlog::LogHeader& h = reader->header();
   const matchlog::LogScan& s = reader->scan();
 

@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "commands.h"
+#include "open_log.h"
 #include "play_session.h"
 #include "throng/matchlog/log_player.h"
 #include "throng/protocol/dds_transport.h"
@@ -99,13 +100,8 @@ enum class StopReason { end_of_log, signal, strict_mismatch };
 }  // namespace
 
 int run_play(const PlayOptions& o) {
-  std::unique_ptr<matchlog::LogPlayer> player;
-  try {
-    player = std::make_unique<matchlog::LogPlayer>(o.log);
-  } catch (const std::exception& e) {
-    fmt::print(stderr, "throng-replay play: {}\n", e.what());
-    return kExitBadInput;
-  }
+  const auto player = open_log<matchlog::LogPlayer>("play", o.log);
+  if (!player) return kExitBadInput;
   if (!check_playable(o, *player)) return kExitBadInput;
   print_notes(*player);
   const auto& h = player->header();

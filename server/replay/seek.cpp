@@ -4,18 +4,14 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "open_log.h"
 #include "throng/matchlog/log_player.h"
 
 namespace throng::replay {
 
 int run_seek(const SeekOptions& o) {
-  std::unique_ptr<matchlog::LogPlayer> player;
-  try {
-    player = std::make_unique<matchlog::LogPlayer>(o.log);
-  } catch (const matchlog::LogError& e) {
-    fmt::print(stderr, "throng-replay seek: {}\n", e.what());
-    return kExitBadInput;
-  }
+  const auto player = open_log<matchlog::LogPlayer>("seek", o.log);
+  if (!player) return kExitBadInput;
   if (o.tick < 1 || o.tick > player->last_tick()) {
     const auto& s = player->scan();
     fmt::print(stderr, "throng-replay seek: --tick {} is outside the ticks that can be re-simulated (1..{}{})\n", o.tick,

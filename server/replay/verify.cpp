@@ -7,19 +7,15 @@
 #include <fmt/format.h>
 
 #include "commands.h"
+#include "open_log.h"
 #include "throng/matchlog/reader.h"
 #include "throng/matchlog/replay.h"
 
 namespace throng::replay {
 
 int run_verify(const VerifyOptions& o) {
-  std::unique_ptr<matchlog::MatchLogReader> reader;
-  try {
-    reader = std::make_unique<matchlog::MatchLogReader>(o.log);
-  } catch (const matchlog::LogError& e) {
-    fmt::print(stderr, "throng-replay verify: {}\n", e.what());
-    return kExitBadInput;
-  }
+  const auto reader = open_log<matchlog::MatchLogReader>("verify", o.log);
+  if (!reader) return kExitBadInput;
   const matchlog::LogHeader& h = reader->header();
   const matchlog::LogScan& s = reader->scan();
   const std::string here = matchlog::default_build_id();

@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "display_host.h"
+#include "page_server.h"
 #include "throng/protocol/dds_transport.h"
 #include "throng/view/gateway.h"
 #include "throng/view/page_input.h"
@@ -45,7 +46,7 @@ struct Inbox {
 // Written by the web thread, read by the loop.
 class InputSlot {
  public:
-  void put(const PageInput& in) {
+  void accept(const PageInput& in) {
     std::lock_guard lock(mutex_);
     latest_ = in;
     received_ = Clock::now();
@@ -69,10 +70,6 @@ class InputSlot {
   std::array<std::uint64_t, kInputErrorCount> errors_{};
 };
 
-std::string error_json(InputError e) {
-  return fmt::format(R"({{"type":"error","reason":"{}"}})", to_string(e));
-}
-
 }  // namespace
 
 int run_gateway(const ViewOptions& o, const std::atomic<bool>& stop) {
@@ -81,25 +78,7 @@ int run_gateway(const ViewOptions& o, const std::atomic<bool>& stop) {
 
   // The web side first: a port in use is reported before anything else happens.
   std::optional<WebServer> web;
-  try {
-    WebServerOptions wo;
-    wo.bind_address = o.bind;
-    wo.port = static_cast<std::uint16_t>(o.port);
-    wo.web_root = o.web_root;
-    web.emplace(wo, [&input](std::string_view text, bool binary) -> std::optional<std::string> {
-      auto parsed = binary ? std::variant<PageInput, InputError>(InputError::not_text) : parse_page_message(text);
-      if (auto* in = std::get_if<PageInput>(&parsed)) {
-        input.put(*in);
-        return std::nullopt;
-      }
-      const InputError e = std::get<InputError>(parsed);
-      input.reject(e);
-      return error_json(e);
-    });
-  } catch (const std::exception& e) {
-    fmt::print(stderr, "throng-view: {}\n", e.what());
-    return 1;
-  }
+  if (!open_page_server<PageInput>(web, o.bind, o.port, o.web_root, parse_page_message, input)) return 1;
   fmt::print("view at http://{}:{}/\n", display_host(o.bind), web->port());
   std::fflush(stdout);
 
@@ -235,12 +214,7 @@ int run_gateway(const ViewOptions& o, const std::atomic<bool>& stop) {
         if (next_command < now) next_command = now + period;  // fell behind: do not burst
       }
 
-      for (std::size_t i = 0; i < kInputErrorCount; ++i) {
-        if (errors[i] == reported_errors[i]) continue;
-        fmt::print(stderr, "throng-view: rejected {} page message(s): {} (total {})\n", errors[i] - reported_errors[i],
-                   to_string(static_cast<InputError>(i)), errors[i]);
-        reported_errors[i] = errors[i];
-      }
+      report_rejections(errors, reported_errors);
       if (last_snapshot_at && now - *last_snapshot_at > 5s && !warned_silent) {
         warned_silent = true;
         fmt::print(stderr, "throng-view: no snapshot from the server for 5 s\n");

@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "display_host.h"
+#include "page_server.h"
 #include "throng/matchlog/log_player.h"
 #include "throng/view/log_control.h"
 #include "throng/view/log_frame.h"
@@ -32,7 +33,7 @@ class CommandQueue {
  public:
   static constexpr std::size_t kMax = 1024;  // a page flooding us: the oldest commands go
 
-  void push(const LogCommand& c) {
+  void accept(const LogCommand& c) {
     {
       std::lock_guard lock(mutex_);
       if (queue_.size() >= kMax) queue_.pop_front();
@@ -97,25 +98,7 @@ int run_log_view(const LogViewOptions& o, const std::atomic<bool>& stop) {
 
   CommandQueue commands;
   std::optional<WebServer> web;
-  try {
-    WebServerOptions wo;
-    wo.bind_address = o.bind;
-    wo.port = static_cast<std::uint16_t>(o.port);
-    wo.web_root = o.web_root;
-    web.emplace(wo, [&commands](std::string_view text, bool binary) -> std::optional<std::string> {
-      auto parsed = binary ? std::variant<LogCommand, InputError>(InputError::not_text) : parse_log_message(text);
-      if (auto* c = std::get_if<LogCommand>(&parsed)) {
-        commands.push(*c);
-        return std::nullopt;
-      }
-      const InputError e = std::get<InputError>(parsed);
-      commands.reject(e);
-      return fmt::format(R"({{"type":"error","reason":"{}"}})", to_string(e));
-    });
-  } catch (const std::exception& e) {
-    fmt::print(stderr, "throng-view: {}\n", e.what());
-    return 1;
-  }
+  if (!open_page_server<LogCommand>(web, o.bind, o.port, o.web_root, parse_log_message, commands)) return 1;
   web->set_greeting(match_info_json(player->match().match_info(), "replay"));
   fmt::print(stderr, "throng-view: replay of {} (match {}, {} ticks at {} Hz, {})\n", o.log, player->header().match_id,
              last, hz, mmss(static_cast<double>(last) / hz));
@@ -202,12 +185,7 @@ int run_log_view(const LogViewOptions& o, const std::atomic<bool>& stop) {
       dirty = false;
     }
 
-    for (std::size_t i = 0; i < kInputErrorCount; ++i) {
-      if (errors[i] == reported[i]) continue;
-      fmt::print(stderr, "throng-view: rejected {} page message(s): {} (total {})\n", errors[i] - reported[i],
-                 to_string(static_cast<InputError>(i)), errors[i]);
-      reported[i] = errors[i];
-    }
+    report_rejections(errors, reported);
     if (!o.quiet && now >= next_status) {
       next_status = now + 10s;
       fmt::print(stderr, "throng-view: replay tick {}/{} ({} / {})  {}  {:g}x  pages {}\n", player->tick(), last,
