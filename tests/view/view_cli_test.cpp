@@ -99,16 +99,19 @@ TEST(ViewCli, BadPageInputIsRejectedAndNeverForwarded) {
   EXPECT_TRUE(got_error(ws, "not_text"));
   ws.send(R"({"type":"input","move_x":0.5,"move_y":0})");  // a good one in between keeps working
 
-  // The frames count them.
-  bool counted = false;
+  // The frames count them, and say when the server has applied one of the gateway's commands
+  // (applied_seq): only then can the server's summary show accepted commands for this client.
+  bool counted = false, applied = false;
   const auto until = Clock::now() + 5s;
-  while (!counted && Clock::now() < until) {
+  while (!(counted && applied) && Clock::now() < until) {
     const auto m = ws.read(1s);
     if (!m || m->find(R"("type":"frame")") == std::string::npos) continue;
     const auto f = nlohmann::json::parse(*m);
     counted = f["input_errors_total"] == 8 && f["input_errors"]["out_of_range"] == 3;
+    applied = f.value("applied_seq", 0u) > 0;
   }
   EXPECT_TRUE(counted);
+  EXPECT_TRUE(applied) << "no command of the gateway was applied by the server within 5 s";
   // The loop logs after it broadcast the frame that counted them: wait for the line.
   EXPECT_TRUE(wait_until([&] { return read_file(dir / "view.err").find("rejected") != std::string::npos; }, 5s))
       << read_file(dir / "view.err");
