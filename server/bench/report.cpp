@@ -9,6 +9,8 @@ void print_summary(std::FILE* out, const RunResult& r) {
              r.warmup, r.iterations);
   fmt::print(out, "tick       median {:.0f} us, p95 {:.0f} us, max {:.0f} us ({:.3f} us per agent)\n", r.tick_us.median,
              r.tick_us.p95, r.tick_us.max, r.us_per_agent());
+  fmt::print(out, "tick cpu   median {:.0f} us, p95 {:.0f} us (thread CPU time: not inflated by waiting for a core)\n",
+             r.tick_cpu_us.median, r.tick_cpu_us.p95);
   fmt::print(out, "phases     move {:.0f}, params {:.0f}, broadphase {:.0f}, solve {:.0f} us (medians); driver {:.0f} us\n",
              r.move_us_median, r.params_us_median, r.broadphase_us_median, r.solve_us_median, r.driver_us_median);
   fmt::print(out, "solver     {:.0f} candidate pairs (median), {:.2f} iterations used (mean), {} capped bodies (max), {} "

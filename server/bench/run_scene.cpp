@@ -5,6 +5,8 @@
 #include <cmath>
 #include <numeric>
 
+#include <time.h>
+
 #include <fmt/core.h>
 
 #include "progress.h"
@@ -16,6 +18,13 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// CPU time this thread has run [us] (not counting time it waited for a core).
+double thread_cpu_us() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) * 1e6 + static_cast<double>(ts.tv_nsec) * 1e-3;
+}
 
 }  // namespace
 
@@ -50,18 +59,21 @@ RunResult run_scene(const scene::SceneDef& def, const RunOptions& options) {
   r.build_s = seconds_since(t_build);
   r.agents = built.world.body_count();
 
-  std::vector<double> total, move, params, broad, solve, driver, candidates, iters;
-  for (auto* v : {&total, &move, &params, &broad, &solve, &driver, &candidates, &iters}) v->reserve(options.ticks);
+  std::vector<double> total, total_cpu, move, params, broad, solve, driver, candidates, iters;
+  for (auto* v : {&total, &total_cpu, &move, &params, &broad, &solve, &driver, &candidates, &iters}) v->reserve(options.ticks);
   Progress progress(def.name, options.warmup + options.ticks, options.progress);
   const auto t_run = Clock::now();
   for (std::uint64_t t = 0; t < options.warmup + options.ticks; ++t) {
     const auto t0 = Clock::now();
     built.driver.apply(built.world);
     const double driver_us = std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+    const double cpu0 = thread_cpu_us();
     const StepStats& s = built.world.step();
+    const double cpu_us = thread_cpu_us() - cpu0;
     progress.tick(t + 1, s.total_us);
     if (t < options.warmup) continue;
     total.push_back(s.total_us);
+    total_cpu.push_back(cpu_us);
     move.push_back(s.move_us);
     params.push_back(s.params_us);
     broad.push_back(s.broadphase_us);
@@ -77,6 +89,7 @@ RunResult run_scene(const scene::SceneDef& def, const RunOptions& options) {
   progress.done();
 
   r.tick_us = summarize(total);
+  r.tick_cpu_us = summarize(total_cpu);
   r.move_us_median = percentile(move, 0.5);
   r.params_us_median = percentile(params, 0.5);
   r.broadphase_us_median = percentile(broad, 0.5);
@@ -103,6 +116,8 @@ nlohmann::ordered_json to_json(const RunResult& r) {
   j["warmup"] = r.warmup;
   j["iterations"] = r.iterations;
   j["tick_us"] = {{"median", r.tick_us.median}, {"p95", r.tick_us.p95}, {"max", r.tick_us.max}, {"mean", r.tick_us.mean}};
+  j["tick_cpu_us"] = {{"median", r.tick_cpu_us.median}, {"p95", r.tick_cpu_us.p95}, {"max", r.tick_cpu_us.max},
+                      {"mean", r.tick_cpu_us.mean}};
   j["us_per_agent"] = r.us_per_agent();
   j["phase_median_us"] = {{"move", r.move_us_median},
                           {"params", r.params_us_median},

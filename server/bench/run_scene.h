@@ -32,6 +32,9 @@ struct RunResult {
   std::uint64_t warmup = 0;
   std::uint32_t iterations = 0;
   Percentiles tick_us;        // StepStats.total_us over the measured ticks
+  // The same World::step() timed with the thread's CPU clock: on a shared build machine the wall
+  // clock also counts the time the thread waited for a core, which inflates medians several-fold.
+  Percentiles tick_cpu_us;
   double move_us_median = 0.0;
   double params_us_median = 0.0;
   double broadphase_us_median = 0.0;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "solver/fast_pair_kernel.h"
 #include "solver/pair_projection.h"
 #include "solver/plane_projection.h"
 
@@ -67,28 +68,47 @@ void measure_start_depths(const SolverBodies& b, std::vector<SolverPair>& pairs,
 }
 
 SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
-                           std::uint32_t iterations, double converged, double conflict_limit) {
+                           std::uint32_t iterations, double converged, double conflict_limit, PairSchedule& schedule) {
   SolveResult result;
   const BodyPtrs b(bodies);
-  const std::size_t np = pairs.size();
   double worst = 0.0;
   // Most crowds touch no scenery at all; skip the per-pair pinned test for them.
   const bool any_planes = !planes.empty();
-  auto project = [&](SolverPair& p) {
+  // Pairs with an airborne body or a body against scenery (see pair_schedule.h), and every pair
+  // of an unscheduled sweep.
+  auto project_slow = [&](SolverPair& p) {
     double share = p.share_a;
     if (p.resolved_once != 0 && conflict_limit > 0.0) share = std::clamp(share, conflict_limit, 1.0 - conflict_limit);
     if (any_planes) share = pinned_share(bodies, planes, p, share);
     const double pen = project_pair(b, p, share);
-    if (pen > 0.0) p.resolved_once = 1;
     if (pen > 0.0) {
-      const double r_min = std::min(b.r[p.a], b.r[p.b]);
-      if (pen > worst * r_min) worst = pen / r_min;  // divide only for a new maximum
+      p.resolved_once = 1;
+      worst = std::max(worst, pen / std::min(b.r[p.a], b.r[p.b]));
     }
   };
+  auto project_level = [&](const PairSchedule::Level& lv) {
+    worst = std::max(worst, project_fast_range(b, schedule, lv.fast_begin, lv.fast_end));
+    for (std::uint32_t k = lv.slow_begin; k < lv.slow_end; ++k) project_slow(pairs[schedule.slow[k]]);
+  };
+  // Building the schedule costs about two sweeps' worth of time, so a crowd that settled within
+  // one sweep last tick (idle bodies, light contact) runs its first sweep in plain pair order —
+  // the same result — and gets a schedule only if it needs a second one. This is only a guess
+  // about speed: either path gives the same bits.
+  bool scheduled = false;
+  auto ensure_schedule = [&] {
+    if (scheduled) return;
+    build_pair_schedule(bodies, pairs, conflict_limit, schedule);
+    scheduled = true;
+  };
+  if (schedule.last_sweeps > 1) ensure_schedule();
   for (std::uint32_t it = 0; it < iterations; ++it) {
     worst = 0.0;
-    if (it % 2 == 0) for (std::size_t k = 0; k < np; ++k) project(pairs[k]);
-    else for (std::size_t k = np; k > 0; --k) project(pairs[k - 1]);
+    if (it > 0) ensure_schedule();
+    const std::size_t nl = schedule.levels.size();
+    // Pairs of one level share no body, so only the order of the levels matters.
+    if (!scheduled) for (SolverPair& p : pairs) project_slow(p);
+    else if (it % 2 == 0) for (std::size_t l = 0; l < nl; ++l) project_level(schedule.levels[l]);
+    else for (std::size_t l = nl; l > 0; --l) project_level(schedule.levels[l - 1]);
     // Fixed bodies last in every sweep: they always win, and the final state honours them exactly.
     for (std::size_t i = 0; any_planes && i < bodies.size(); ++i) {
       if (bodies.plane_count[i] == 0) continue;
@@ -99,6 +119,8 @@ SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs,
     result.max_pen_over_radius = worst;
     if (worst <= converged) break;
   }
+  if (scheduled) write_back_pair_schedule(schedule, pairs);
+  schedule.last_sweeps = result.iterations_used;
   return result;
 }
 

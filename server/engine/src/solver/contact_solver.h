@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "solver/pair_schedule.h"
 #include "solver/solver_data.h"
 
 namespace throng::detail {
@@ -26,7 +27,10 @@ void measure_start_depths(const SolverBodies& bodies, std::vector<SolverPair>& p
 // worse on the crush scene at 8 and 16 iterations: p99 0.115 vs 0.070 at K = 8.)
 // conflict_share_limit > 0 clamps the share of every push after a pair's first one in a tick into
 // [limit, 1 - limit] (see WorldSettings::conflict_share_limit); 0 keeps the exact share throughout.
+// The sweeps visit the pairs in the level order of pair_schedule.h (same result as the pairs' own
+// order, without the wait on each previous projection); `schedule` is reused scratch.
 SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
-                           std::uint32_t iterations, double converged_pen_over_radius, double conflict_share_limit);
+                           std::uint32_t iterations, double converged_pen_over_radius, double conflict_share_limit,
+                           PairSchedule& schedule);
 
 }  // namespace throng::detail

@@ -7,6 +7,7 @@
 
 #include "broadphase/hier_grid.h"
 #include "broadphase/point_grid.h"
+#include "solver/pair_schedule.h"
 #include "solver/solver_data.h"
 #include "throng/core/byte_io.h"
 #include "throng/geometry/static_scenery.h"
@@ -72,6 +73,7 @@ struct World::Impl {
   detail::SolverBodies sb;
   std::vector<detail::CandidatePair> candidates;
   std::vector<detail::SolverPair> pairs;
+  detail::PairSchedule pair_schedule;
   std::vector<detail::SolverPlane> planes;
   std::vector<geom::SceneryContact> contacts;
   std::vector<PushEvent> events;

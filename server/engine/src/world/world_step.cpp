@@ -181,7 +181,7 @@ void World::Impl::solve() {
   if (settings.record_push_events) detail::measure_start_depths(sb, pairs, planes);
   const detail::SolveResult r =
       detail::solve_contacts(sb, pairs, planes, settings.iterations, settings.converged_pen_over_radius,
-                             policy.mode() == params::PushMode::ratio ? settings.conflict_share_limit : 0.0);
+                             policy.mode() == params::PushMode::ratio ? settings.conflict_share_limit : 0.0, pair_schedule);
   stats.iterations_used = r.iterations_used;
   stats.max_pen_over_radius = r.max_pen_over_radius;
   const std::vector<std::uint32_t>& order = grid.order();

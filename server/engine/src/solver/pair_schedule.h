@@ -1,0 +1,62 @@
+#pragma once
+// The order in which one Gauss-Seidel sweep visits the pairs, rebuilt every tick.
+//
+// Why: the broadphase lists a body's pairs one after another, so in that order every projection
+// reads the position the previous one just wrote (store -> load -> sqrt -> division -> store):
+// the sweep ran one dependent chain of ~50 cycles per pair and the core sat idle.
+//
+// Each pair gets a level: one more than the latest level of any earlier pair sharing one of its
+// bodies. Pairs of one level share no body, so they can run in any order, side by side (out of
+// order, or in SIMD lanes). Visiting the levels in order keeps every body's pairs in their original
+// relative order, and two projections that share no body touch disjoint memory, so a sweep in level
+// order gives bit-for-bit the result of a sweep in broadphase order, and the reverse level order
+// that of the reverse sweep. Nothing about convergence changes; only the waiting goes.
+//
+// Fast pairs (both bodies grounded, neither touching fixed scenery: the crowd's common case) are
+// copied into structure-of-arrays form for the kernel in fast_pair_kernel.h; the others stay in
+// SolverPair form and are projected by the general code.
+#include <cstdint>
+#include <vector>
+
+#include "solver/solver_data.h"
+
+namespace throng::detail {
+
+struct PairSchedule {
+  struct Level {
+    std::uint32_t fast_begin, fast_end;  // range in the fast arrays
+    std::uint32_t slow_begin, slow_end;  // range in `slow`
+  };
+  std::vector<Level> levels;
+
+  // Fast pairs in level order.
+  std::vector<std::uint32_t> a, b;
+  std::vector<double> target;
+  std::vector<double> share_now;       // share of the next push: exact, then the conflict share
+  std::vector<double> share_conflict;  // exact share clamped by the conflict limit
+  std::vector<double> lambda;
+  std::vector<double> inv_r_min;       // 1 / smaller radius
+  std::vector<std::uint8_t> resolved;
+  std::vector<std::uint32_t> src;      // index in the caller's pair list
+
+  std::vector<std::uint32_t> slow;     // other pairs in level order: indices in the caller's list
+
+  // Sweeps the last solve used: a hint for whether the next one is worth a schedule (speed only).
+  std::uint32_t last_sweeps = 0;
+
+  // Scratch.
+  std::vector<std::uint32_t> next_level;  // per body: the first level its next pair may take
+  std::vector<std::uint32_t> pair_level;  // per pair
+  std::vector<std::uint32_t> fast_count, slow_count;
+
+  std::size_t fast_size() const { return a.size(); }
+};
+
+// Builds the schedule of `pairs` (fast copies take the pairs' current lambda and resolved flag).
+void build_pair_schedule(const SolverBodies& bodies, const std::vector<SolverPair>& pairs, double conflict_limit,
+                         PairSchedule& s);
+
+// Copies the fast pairs' lambda and resolved flag back into the caller's list.
+void write_back_pair_schedule(const PairSchedule& s, std::vector<SolverPair>& pairs);
+
+}  // namespace throng::detail
