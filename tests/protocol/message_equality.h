@@ -141,4 +141,18 @@ inline void expect_same(const ServerStats& a, const ServerStats& b) {
   EXPECT_EQ(a.state, b.state);
 }
 
+inline void expect_same(const ContactPairs& a, const ContactPairs& b) {
+  EXPECT_EQ(a.client_id, b.client_id);
+  EXPECT_EQ(a.tick, b.tick);
+  EXPECT_EQ(a.pairs_near, b.pairs_near);
+  EXPECT_EQ(a.camera_x, b.camera_x);
+  EXPECT_EQ(a.camera_y, b.camera_y);
+  EXPECT_EQ(a.radius_m, b.radius_m);
+  EXPECT_EQ(a.a, b.a);
+  EXPECT_EQ(a.b, b.b);
+  EXPECT_EQ(a.share_a, b.share_a);
+  EXPECT_EQ(a.depth, b.depth);
+  EXPECT_EQ(a.push, b.push);
+}
+
 }  // namespace throng::protocol::test

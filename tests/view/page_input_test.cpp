@@ -29,6 +29,8 @@ TEST(PageInput, AcceptsAFullMessage) {
   EXPECT_FLOAT_EQ(in.move_y, -0.8f);
   EXPECT_FLOAT_EQ(in.facing_rad, 1.5f);
   EXPECT_EQ(in.actions, 3u);
+  // The contacts overlay request (protocol::kActionContacts) is a known bit.
+  EXPECT_EQ(ok(R"({"type":"input","actions":7})").actions, 7u);
   ASSERT_TRUE(in.panned());
   EXPECT_FLOAT_EQ(*in.camera_x, 12.5f);
   EXPECT_FLOAT_EQ(*in.camera_y, -4.0f);
@@ -67,7 +69,8 @@ TEST(PageInput, RejectsWrongTypesAndRanges) {
   EXPECT_EQ(bad(R"({"type":"input","facing":100})"), InputError::out_of_range);
   EXPECT_EQ(bad(R"({"type":"input","camera_x":1})"), InputError::out_of_range);  // only one coordinate
   EXPECT_EQ(bad(R"({"type":"input","camera_x":1e6,"camera_y":0})"), InputError::out_of_range);
-  EXPECT_EQ(bad(R"({"type":"input","actions":4})"), InputError::bad_actions);
+  EXPECT_EQ(bad(R"({"type":"input","actions":8})"), InputError::bad_actions);
+  EXPECT_EQ(bad(R"({"type":"input","actions":12})"), InputError::bad_actions);  // contacts + an unknown bit
   EXPECT_EQ(bad(R"({"type":"input","actions":-1})"), InputError::bad_actions);
   EXPECT_EQ(bad(R"({"type":"input","actions":1.5})"), InputError::bad_actions);
   EXPECT_EQ(bad(R"({"type":"input","actions":"1"})"), InputError::bad_type);

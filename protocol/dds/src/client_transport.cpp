@@ -1,7 +1,7 @@
 // ClientTransport: one participant carrying any number of clients (bots multiplex on it). Shared
 // writers for joins, commands (keyed by client_id) and param updates; readers for match info,
 // join replies, param replies and stats (created by start()); one Subscriber + DataReader per
-// subscribed client partition for snapshots.
+// subscribed client partition for snapshots, and another for contact pairs when asked for.
 #include <memory>
 #include <mutex>
 #include <unordered_map>
@@ -18,16 +18,17 @@ using namespace dds_detail;
 
 namespace {
 
-using SnapshotHandler = std::function<void(Snapshot&&, std::size_t wire_bytes)>;
-
-// One client's snapshot subscription. The handler can be replaced while samples arrive, so the
-// listener reads it under a mutex and calls a copy outside the lock.
-struct SnapshotSubscription {
+// One client's subscription to a per-client topic (snapshots, contact pairs). The handler can be
+// replaced while samples arrive, so the listener reads it under a mutex and calls a copy outside
+// the lock.
+template <class Idl, class Message>
+struct PartitionSubscription {
+  using Handler = std::function<void(Message&&, std::size_t wire_bytes)>;
   std::mutex handler_mutex;
-  SnapshotHandler handler;
+  Handler handler;
   std::string partition;
-  TakeAllListener<v1::Snapshot> listener{[this](v1::Snapshot&& s, std::size_t bytes) {
-    SnapshotHandler h;
+  TakeAllListener<Idl> listener{[this](Idl&& s, std::size_t bytes) {
+    Handler h;
     {
       std::lock_guard<std::mutex> lock(handler_mutex);
       h = handler;
@@ -36,6 +37,56 @@ struct SnapshotSubscription {
   }};
   dds::Subscriber* subscriber = nullptr;  // in the client's partition; owns the reader
 };
+
+using SnapshotSubscription = PartitionSubscription<v1::Snapshot, Snapshot>;
+using ContactsSubscription = PartitionSubscription<v1::ContactPairs, ContactPairs>;
+
+template <class Subscription>
+using SubscriptionMap = std::unordered_map<std::uint32_t, std::unique_ptr<Subscription>>;
+
+// Subscribes (or re-points) one client's subscription of one topic; see subscribe_snapshots.
+template <class Subscription>
+void subscribe(Participant& p, SubscriptionMap<Subscription>& map, std::uint32_t client_id, const std::string& partition,
+               typename Subscription::Handler handler, dds::Topic& topic, const char* reader_profile) {
+  check_partition_name(partition);
+  if (const auto it = map.find(client_id); it != map.end()) {
+    Subscription& existing = *it->second;
+    {
+      std::lock_guard<std::mutex> handler_lock(existing.handler_mutex);
+      existing.handler = std::move(handler);
+    }
+    if (existing.partition != partition) {
+      // Partition is a changeable QoS: the reader rematches to the new client's writer.
+      dds::SubscriberQos qos = existing.subscriber->get_qos();
+      qos.partition().clear();
+      qos.partition().push_back(partition.c_str());
+      if (existing.subscriber->set_qos(qos) != ReturnCode_t::RETCODE_OK)
+        throw TransportError("cannot move client " + std::to_string(client_id) + "'s " + topic.get_name() +
+                             " subscription to partition " + partition);
+      existing.partition = partition;
+    }
+    return;
+  }
+  auto subscription = std::make_unique<Subscription>();
+  subscription->handler = std::move(handler);
+  subscription->partition = partition;
+  subscription->subscriber = &p.create_partition_subscriber(partition);
+  try {
+    p.create_reader(*subscription->subscriber, topic, reader_profile, &subscription->listener);
+  } catch (...) {
+    p.delete_subscriber(*subscription->subscriber);
+    throw;
+  }
+  map.emplace(client_id, std::move(subscription));
+}
+
+template <class Subscription>
+void unsubscribe(Participant& p, SubscriptionMap<Subscription>& map, std::uint32_t client_id) {
+  const auto it = map.find(client_id);
+  if (it == map.end()) return;
+  p.delete_subscriber(*it->second->subscriber);
+  map.erase(it);
+}
 
 }  // namespace
 
@@ -50,7 +101,8 @@ struct ClientTransport::Impl {
   std::unique_ptr<TakeAllListener<v1::ParamReply>> param_reply_listener;
   std::unique_ptr<TakeAllListener<v1::ServerStats>> stats_listener;
   std::mutex subscriptions_mutex;
-  std::unordered_map<std::uint32_t, std::unique_ptr<SnapshotSubscription>> subscriptions;
+  SubscriptionMap<SnapshotSubscription> subscriptions;
+  SubscriptionMap<ContactsSubscription> contacts_subscriptions;
 
   Participant participant;
   dds::DataWriter* join_request_writer = nullptr;
@@ -124,47 +176,28 @@ void ClientTransport::send_param_update(const ParamUpdate& update) {
 
 void ClientTransport::subscribe_snapshots(std::uint32_t client_id, const std::string& partition,
                                           std::function<void(Snapshot&&, std::size_t wire_bytes)> handler) {
-  check_partition_name(partition);
   std::lock_guard<std::mutex> lock(impl_->subscriptions_mutex);
-  if (const auto it = impl_->subscriptions.find(client_id); it != impl_->subscriptions.end()) {
-    SnapshotSubscription& existing = *it->second;
-    {
-      std::lock_guard<std::mutex> handler_lock(existing.handler_mutex);
-      existing.handler = std::move(handler);
-    }
-    if (existing.partition != partition) {
-      // Partition is a changeable QoS: the reader rematches to the new client's writer.
-      dds::SubscriberQos qos = existing.subscriber->get_qos();
-      qos.partition().clear();
-      qos.partition().push_back(partition.c_str());
-      if (existing.subscriber->set_qos(qos) != ReturnCode_t::RETCODE_OK)
-        throw TransportError("cannot move client " + std::to_string(client_id) + "'s snapshot subscription to partition " +
-                             partition);
-      existing.partition = partition;
-    }
-    return;
-  }
-  auto subscription = std::make_unique<SnapshotSubscription>();
-  subscription->handler = std::move(handler);
-  subscription->partition = partition;
   Participant& p = impl_->participant;
-  subscription->subscriber = &p.create_partition_subscriber(partition);
-  try {
-    p.create_reader(*subscription->subscriber, *p.topics().snapshot, kSnapshotProfiles.reader,
-                    &subscription->listener);
-  } catch (...) {
-    p.delete_subscriber(*subscription->subscriber);
-    throw;
-  }
-  impl_->subscriptions.emplace(client_id, std::move(subscription));
+  subscribe(p, impl_->subscriptions, client_id, partition, std::move(handler), *p.topics().snapshot,
+            kSnapshotProfiles.reader);
 }
 
 void ClientTransport::unsubscribe_snapshots(std::uint32_t client_id) {
   std::lock_guard<std::mutex> lock(impl_->subscriptions_mutex);
-  const auto it = impl_->subscriptions.find(client_id);
-  if (it == impl_->subscriptions.end()) return;
-  impl_->participant.delete_subscriber(*it->second->subscriber);
-  impl_->subscriptions.erase(it);
+  unsubscribe(impl_->participant, impl_->subscriptions, client_id);
+}
+
+void ClientTransport::subscribe_contacts(std::uint32_t client_id, const std::string& partition,
+                                         std::function<void(ContactPairs&&, std::size_t wire_bytes)> handler) {
+  std::lock_guard<std::mutex> lock(impl_->subscriptions_mutex);
+  Participant& p = impl_->participant;
+  subscribe(p, impl_->contacts_subscriptions, client_id, partition, std::move(handler), *p.topics().contacts,
+            kContactsProfiles.reader);
+}
+
+void ClientTransport::unsubscribe_contacts(std::uint32_t client_id) {
+  std::lock_guard<std::mutex> lock(impl_->subscriptions_mutex);
+  unsubscribe(impl_->participant, impl_->contacts_subscriptions, client_id);
 }
 
 }  // namespace throng::protocol

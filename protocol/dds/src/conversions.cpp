@@ -171,6 +171,22 @@ v1::ServerStats to_idl(const ServerStats& m) {
   return s;
 }
 
+v1::ContactPairs to_idl(const ContactPairs& m) {
+  v1::ContactPairs s;
+  s.client_id(m.client_id);
+  s.tick(m.tick);
+  s.pairs_near(m.pairs_near);
+  s.camera_x(m.camera_x);
+  s.camera_y(m.camera_y);
+  s.radius_m(m.radius_m);
+  s.a(m.a);
+  s.b(m.b);
+  s.share_a(m.share_a);
+  s.depth(m.depth);
+  s.push(m.push);
+  return s;
+}
+
 // --- from the wire ----------------------------------------------------------------------------
 
 JoinRequest from_idl(v1::JoinRequest&& s) {
@@ -330,6 +346,22 @@ ServerStats from_idl(v1::ServerStats&& s) {
   m.push_events = s.push_events();
   m.state_hash = s.state_hash();
   m.state = static_cast<MatchState>(s.state());
+  return m;
+}
+
+ContactPairs from_idl(v1::ContactPairs&& s) {
+  ContactPairs m;
+  m.client_id = s.client_id();
+  m.tick = s.tick();
+  m.pairs_near = s.pairs_near();
+  m.camera_x = s.camera_x();
+  m.camera_y = s.camera_y();
+  m.radius_m = s.radius_m();
+  m.a = std::move(s.a());
+  m.b = std::move(s.b());
+  m.share_a = std::move(s.share_a());
+  m.depth = std::move(s.depth());
+  m.push = std::move(s.push());
   return m;
 }
 

@@ -16,6 +16,7 @@ v1::MatchInfo to_idl(const MatchInfo& m);
 v1::ParamUpdate to_idl(const ParamUpdate& m);
 v1::ParamReply to_idl(const ParamReply& m);
 v1::ServerStats to_idl(const ServerStats& m);
+v1::ContactPairs to_idl(const ContactPairs& m);
 
 JoinRequest from_idl(v1::JoinRequest&& s);
 JoinReply from_idl(v1::JoinReply&& s);
@@ -25,5 +26,6 @@ MatchInfo from_idl(v1::MatchInfo&& s);
 ParamUpdate from_idl(v1::ParamUpdate&& s);
 ParamReply from_idl(v1::ParamReply&& s);
 ServerStats from_idl(v1::ServerStats&& s);
+ContactPairs from_idl(v1::ContactPairs&& s);
 
 }  // namespace throng::protocol::dds_detail

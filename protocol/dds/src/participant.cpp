@@ -43,6 +43,7 @@ Participant::Participant(const TransportOptions& options)
     topics_.param_update = make_topic<v1::ParamUpdatePubSubType>(*participant_, kTopicParamUpdate, w);
     topics_.param_reply = make_topic<v1::ParamReplyPubSubType>(*participant_, kTopicParamReply, w);
     topics_.server_stats = make_topic<v1::ServerStatsPubSubType>(*participant_, kTopicServerStats, w);
+    topics_.contacts = make_topic<v1::ContactPairsPubSubType>(*participant_, kTopicContacts, w);
     publisher_ = participant_->create_publisher(dds::PUBLISHER_QOS_DEFAULT);
     subscriber_ = participant_->create_subscriber(dds::SUBSCRIBER_QOS_DEFAULT);
     if (publisher_ == nullptr || subscriber_ == nullptr)

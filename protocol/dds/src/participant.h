@@ -26,6 +26,7 @@ struct Topics {
   eprosima::fastdds::dds::Topic* param_update = nullptr;
   eprosima::fastdds::dds::Topic* param_reply = nullptr;
   eprosima::fastdds::dds::Topic* server_stats = nullptr;
+  eprosima::fastdds::dds::Topic* contacts = nullptr;
 };
 
 class Participant {

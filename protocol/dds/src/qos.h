@@ -27,6 +27,7 @@ inline constexpr TopicProfiles kSnapshotProfiles{"throng_snapshot_writer", "thro
 inline constexpr TopicProfiles kParamProfiles{"throng_param_writer", "throng_param_reader"};  // param_update
 inline constexpr TopicProfiles kParamReplyProfiles{"throng_param_reply_writer", "throng_param_reply_reader"};
 inline constexpr TopicProfiles kServerStatsProfiles{"throng_server_stats_writer", "throng_server_stats_reader"};
+inline constexpr TopicProfiles kContactsProfiles{"throng_contacts_writer", "throng_contacts_reader"};
 inline constexpr const char* kLoopbackParticipantProfile = "throng_loopback_participant";
 
 inline constexpr int kMaxDomainId = 232;  // RTPS port mapping limit with Fast DDS's default ports

@@ -1,6 +1,7 @@
 // ServerTransport: the match server's side. Shared writers for match info, join replies, param
 // replies and stats; readers for joins, commands and param updates (created by start()); one
-// Publisher + DataWriter per client for snapshots, in that client's partition.
+// Publisher + DataWriter per client for snapshots, in that client's partition (plus a contact-pairs
+// writer there for the clients that asked for the debug channel).
 #include <atomic>
 #include <memory>
 #include <mutex>
@@ -19,8 +20,9 @@ using namespace dds_detail;
 
 namespace {
 struct SnapshotChannel {
-  dds::Publisher* publisher = nullptr;  // in the client's partition; owns the writer
+  dds::Publisher* publisher = nullptr;  // in the client's partition; owns the writers
   dds::DataWriter* writer = nullptr;
+  dds::DataWriter* contacts_writer = nullptr;  // created by the first publish_contacts
 };
 }  // namespace
 
@@ -45,6 +47,7 @@ struct ServerTransport::Impl {
   std::unordered_map<std::uint32_t, SnapshotChannel> channels;
 
   std::atomic<std::uint64_t> snapshot_samples{0}, snapshot_bytes{0}, other_samples{0}, other_bytes{0};
+  std::atomic<std::uint64_t> contacts_samples{0}, contacts_bytes{0};
 
   explicit Impl(const TransportOptions& options) : participant(options) {
     const Topics& t = participant.topics();
@@ -145,9 +148,38 @@ std::size_t ServerTransport::publish_snapshot(const Snapshot& snapshot) {
   return bytes;
 }
 
+std::size_t ServerTransport::publish_contacts(const ContactPairs& contacts) {
+  Impl& s = *impl_;
+  auto write = [&](dds::DataWriter& writer) {
+    v1::ContactPairs sample = to_idl(contacts);
+    const std::size_t bytes = write_sample(writer, sample);
+    s.contacts_bytes += bytes;
+    ++s.contacts_samples;
+    return bytes;
+  };
+  {
+    std::shared_lock<std::shared_mutex> lock(s.channels_mutex);
+    const auto it = s.channels.find(contacts.client_id);
+    if (it == s.channels.end()) return 0;
+    if (it->second.contacts_writer) return write(*it->second.contacts_writer);
+  }
+  // First contacts sample of this client: its writer, in the snapshot channel's publisher.
+  std::unique_lock<std::shared_mutex> lock(s.channels_mutex);
+  const auto it = s.channels.find(contacts.client_id);
+  if (it == s.channels.end()) return 0;
+  SnapshotChannel& ch = it->second;
+  if (!ch.contacts_writer)
+    ch.contacts_writer = &s.participant.create_writer(*ch.publisher, *s.participant.topics().contacts,
+                                                      kContactsProfiles.writer);
+  return write(*ch.contacts_writer);
+}
+
 TransportCounters ServerTransport::counters() const {
-  return TransportCounters{impl_->snapshot_samples.load(), impl_->snapshot_bytes.load(),
-                           impl_->other_samples.load(), impl_->other_bytes.load()};
+  TransportCounters c{impl_->snapshot_samples.load(), impl_->snapshot_bytes.load(), impl_->other_samples.load(),
+                      impl_->other_bytes.load()};
+  c.contacts_samples = impl_->contacts_samples.load();
+  c.contacts_bytes = impl_->contacts_bytes.load();
+  return c;
 }
 
 }  // namespace throng::protocol

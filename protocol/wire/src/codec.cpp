@@ -3,6 +3,8 @@
 #include <cmath>
 #include <string>
 
+#include "cdr_size.h"
+
 namespace throng::protocol {
 
 std::optional<std::int16_t> quantize_offset(double v_m, std::int32_t origin_mm, std::uint16_t unit_mm) {
@@ -100,18 +102,9 @@ void decode_poses(const Snapshot& snap, std::vector<Pose>& out) {
   if (c != snap.id_codes.size()) throw DecodeError("snapshot: more id codes than poses");
 }
 
-namespace {
-// XCDR1: primitives aligned to their size, sequences as a 4-byte length then elements.
-struct CdrSize {
-  std::size_t n = 0;
-  void align(std::size_t a) { n = (n + a - 1) / a * a; }
-  void prim(std::size_t s) { align(s); n += s; }
-  void seq(std::size_t count, std::size_t elem) { prim(4); if (count) { align(elem); n += count * elem; } }
-};
-}  // namespace
 
 std::size_t snapshot_wire_bytes(const Snapshot& s) {
-  CdrSize c;
+  detail::CdrSize c;
   c.prim(4);  // client_id
   c.prim(8);  // tick
   c.prim(4);  // last_applied_sequence

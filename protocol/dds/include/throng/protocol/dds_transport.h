@@ -31,6 +31,8 @@ struct TransportCounters {
   std::uint64_t snapshot_bytes = 0;
   std::uint64_t other_samples = 0;
   std::uint64_t other_bytes = 0;
+  std::uint64_t contacts_samples = 0;  // the ContactPairs debug channel (opted-in clients only)
+  std::uint64_t contacts_bytes = 0;
 };
 
 class TransportError : public std::runtime_error {
@@ -66,6 +68,10 @@ class ServerTransport {
   void close_client_channel(std::uint32_t client_id);
   // Returns the serialized payload size in bytes, 0 if the client has no open channel.
   std::size_t publish_snapshot(const Snapshot& snapshot);
+  // The contact-pairs debug channel, in the same partition as the client's snapshots. Its writer
+  // is created at the client's first contacts sample (clients that never opt in never see one)
+  // and closed with the channel. Returns the payload size, 0 if the client has no open channel.
+  std::size_t publish_contacts(const ContactPairs& contacts);
 
   TransportCounters counters() const;
 
@@ -109,6 +115,12 @@ class ClientTransport {
   void subscribe_snapshots(std::uint32_t client_id, const std::string& partition,
                            std::function<void(Snapshot&&, std::size_t wire_bytes)> handler);
   void unsubscribe_snapshots(std::uint32_t client_id);
+
+  // The same for the client's contact pairs (ServerTransport::publish_contacts), in the same
+  // partition as its snapshots. Nothing arrives until the server grants the client contacts.
+  void subscribe_contacts(std::uint32_t client_id, const std::string& partition,
+                          std::function<void(ContactPairs&&, std::size_t wire_bytes)> handler);
+  void unsubscribe_contacts(std::uint32_t client_id);
 
  private:
   struct Impl;

@@ -25,6 +25,7 @@ inline constexpr const char* kTopicSnapshot = "throng_v1_snapshot";
 inline constexpr const char* kTopicParamUpdate = "throng_v1_param_update";
 inline constexpr const char* kTopicParamReply = "throng_v1_param_reply";
 inline constexpr const char* kTopicServerStats = "throng_v1_server_stats";
+inline constexpr const char* kTopicContacts = "throng_v1_contacts";
 
 // --- join / leave (client -> server, reliable) ----------------------------------------------
 struct JoinRequest {
@@ -62,7 +63,10 @@ struct JoinReply {
 // Action bits. Unknown bits are a validation error (bad_actions).
 inline constexpr std::uint32_t kActionSprint = 1u << 0;  // move at 1.5x speed
 inline constexpr std::uint32_t kActionBrace = 1u << 1;   // stand firm: counts as heavier while held
-inline constexpr std::uint32_t kKnownActions = kActionSprint | kActionBrace;
+// Not a game action: "send me the contact pairs near my camera" (the ContactPairs topic, a debug
+// overlay). It never changes the simulation; the server grants it to a few clients at a time.
+inline constexpr std::uint32_t kActionContacts = 1u << 2;
+inline constexpr std::uint32_t kKnownActions = kActionSprint | kActionBrace | kActionContacts;
 
 struct Command {
   std::uint32_t client_id = 0;
@@ -99,6 +103,23 @@ struct Snapshot {
   std::vector<std::int16_t> z;              // z / unit (absolute, +-32 m at 1 mm)
   std::vector<std::uint8_t> yaw;            // yaw * 256 / 2pi
   std::vector<std::uint32_t> removed;       // ids that left the interest area or were destroyed
+};
+
+// --- contact pairs (server -> one opted-in client, best-effort, one sample per tick) ----------
+// The body pairs the solver pushed apart this tick nearest the client's camera (a debug overlay:
+// collision shapes, contact planes and push ratios). Sent only while the client's newest applied
+// command carries kActionContacts and the server granted it (contacts.h has the units).
+struct ContactPairs {
+  std::uint32_t client_id = 0;
+  std::uint64_t tick = 0;
+  std::uint32_t pairs_near = 0;         // body pairs within radius_m of the camera, before the cap
+  float camera_x = 0, camera_y = 0;     // the centre the pairs were chosen around
+  float radius_m = 0;
+  std::vector<std::uint32_t> a;         // object ids of each pair, nearest the camera first
+  std::vector<std::uint32_t> b;
+  std::vector<std::uint16_t> share_a;   // fraction of the push that moved a, * kShareScale
+  std::vector<std::uint16_t> depth;     // penetration at the start of the solve, kContactUnitM steps
+  std::vector<std::uint16_t> push;      // total push of the pair this tick, kContactUnitM steps
 };
 
 // --- match info (server -> all, reliable, transient-local, keep last 1) ----------------------
