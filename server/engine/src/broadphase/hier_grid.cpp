@@ -66,25 +66,29 @@ void HierGrid::build(const double* x, const double* y, const double* r, std::siz
     Level& lv = levels_[l];
     if (lv.begin == lv.end) continue;
     const double inv = 1.0 / lv.cell_m;
-    items_.clear();
-    coords_.clear();
+    const std::uint32_t count_l = lv.end - lv.begin;
+    items_.resize(count_l);
+    coords_.resize(2 * std::size_t{count_l});
     std::int64_t min_cx = INT64_MAX, min_cy = INT64_MAX, max_cx = INT64_MIN, max_cy = INT64_MIN;
+    const bool one_level = level_count_ == 1;  // the common case: no per-body level test
+    std::size_t m = 0;
     for (std::size_t i = 0; i < n; ++i) {
-      if (level_of_[i] != l) continue;
+      if (!one_level && level_of_[i] != l) continue;
       const std::int64_t cx = cell_coord(x[i], inv), cy = cell_coord(y[i], inv);
-      coords_.push_back(cx);
-      coords_.push_back(cy);
+      coords_[2 * m] = cx;
+      coords_[2 * m + 1] = cy;
       min_cx = std::min(min_cx, cx); max_cx = std::max(max_cx, cx);
       min_cy = std::min(min_cy, cy); max_cy = std::max(max_cy, cy);
-      items_.push_back({0, static_cast<std::uint32_t>(i)});
+      items_[m] = {0, static_cast<std::uint32_t>(i)};
       lv.max_reach_m = std::max(lv.max_reach_m, r[i] + margin_m);
+      ++m;
     }
     lv.min_cx = min_cx;
     lv.min_cy = min_cy;
     lv.stride = static_cast<std::uint64_t>(max_cx - min_cx) + 3;
     lv.rows = static_cast<std::uint64_t>(max_cy - min_cy) + 3;
     for (std::size_t k = 0; k < items_.size(); ++k) items_[k].key = level_key(lv, coords_[2 * k], coords_[2 * k + 1]);
-    radix_sort(items_, scratch_);
+    radix_sort(items_, scratch_, lv.stride * lv.rows - 1);
     std::uint32_t s = lv.begin;
     for (std::size_t k = 0; k < items_.size(); ++k, ++s) {
       order_[s] = items_[k].index;

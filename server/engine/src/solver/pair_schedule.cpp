@@ -9,51 +9,55 @@ void build_pair_schedule(const SolverBodies& bodies, const std::vector<SolverPai
   const std::size_t np = pairs.size();
   s.next_level.assign(bodies.size(), 0);
   s.pair_level.resize(np);
-  std::uint32_t level_count = 0;
+  s.fast_count.clear();
+  s.slow_count.clear();
   std::uint32_t fast_total = 0;
+  const std::uint32_t* plane_count = bodies.plane_count.data();
+  // Level of each pair, with the fast/slow split in the top bit; counts per level.
+  constexpr std::uint32_t kSlow = 0x80000000u;
   for (std::size_t k = 0; k < np; ++k) {
     const SolverPair& p = pairs[k];
     const std::uint32_t lv = std::max(s.next_level[p.a], s.next_level[p.b]);
     s.next_level[p.a] = s.next_level[p.b] = lv + 1;
-    s.pair_level[k] = lv;
-    level_count = std::max(level_count, lv + 1);
-  }
-  s.fast_count.assign(level_count + 1, 0);
-  s.slow_count.assign(level_count + 1, 0);
-  auto is_fast = [&](const SolverPair& p) {
-    return p.target >= 0.0 && (bodies.plane_count[p.a] | bodies.plane_count[p.b]) == 0;
-  };
-  for (std::size_t k = 0; k < np; ++k) {
-    if (is_fast(pairs[k])) {
-      ++s.fast_count[s.pair_level[k]];
+    if (lv == s.fast_count.size()) {
+      s.fast_count.push_back(0);
+      s.slow_count.push_back(0);
+    }
+    const bool fast = p.target >= 0.0 && (plane_count[p.a] | plane_count[p.b]) == 0;
+    if (fast) {
+      ++s.fast_count[lv];
       ++fast_total;
     } else {
-      ++s.slow_count[s.pair_level[k]];
+      ++s.slow_count[lv];
     }
+    s.pair_level[k] = lv | (fast ? 0u : kSlow);
   }
   // Counting sort by level (stable: within a level, pairs keep the broadphase order).
+  const std::size_t level_count = s.fast_count.size();
   s.levels.resize(level_count);
   std::uint32_t fast_at = 0, slow_at = 0;
-  for (std::uint32_t lv = 0; lv < level_count; ++lv) {
+  for (std::size_t lv = 0; lv < level_count; ++lv) {
     s.levels[lv] = {fast_at, fast_at + s.fast_count[lv], slow_at, slow_at + s.slow_count[lv]};
     s.fast_count[lv] = fast_at;  // now the next free slot of the level
     s.slow_count[lv] = slow_at;
     fast_at = s.levels[lv].fast_end;
     slow_at = s.levels[lv].slow_end;
   }
+  // Scatter only the pair index, then fill the fast arrays front to back: one random write per
+  // pair instead of one into each of nine arrays.
+  s.src.resize(fast_total);
+  s.slow.resize(np - fast_total);
+  for (std::size_t k = 0; k < np; ++k) {
+    const std::uint32_t lv = s.pair_level[k];
+    if (lv & kSlow) s.slow[s.slow_count[lv & ~kSlow]++] = static_cast<std::uint32_t>(k);
+    else s.src[s.fast_count[lv]++] = static_cast<std::uint32_t>(k);
+  }
   s.a.resize(fast_total); s.b.resize(fast_total); s.target.resize(fast_total);
   s.share_now.resize(fast_total); s.share_conflict.resize(fast_total); s.lambda.resize(fast_total);
-  s.inv_r_min.resize(fast_total); s.resolved.resize(fast_total); s.src.resize(fast_total);
-  s.slow.resize(np - fast_total);
+  s.inv_r_min.resize(fast_total); s.resolved.resize(fast_total);
   const double* r = bodies.r.data();
-  for (std::size_t k = 0; k < np; ++k) {
-    const SolverPair& p = pairs[k];
-    const std::uint32_t lv = s.pair_level[k];
-    if (!is_fast(p)) {
-      s.slow[s.slow_count[lv]++] = static_cast<std::uint32_t>(k);
-      continue;
-    }
-    const std::uint32_t f = s.fast_count[lv]++;
+  for (std::uint32_t f = 0; f < fast_total; ++f) {
+    const SolverPair& p = pairs[s.src[f]];
     s.a[f] = p.a;
     s.b[f] = p.b;
     s.target[f] = p.target;
@@ -65,7 +69,6 @@ void build_pair_schedule(const SolverBodies& bodies, const std::vector<SolverPai
     s.lambda[f] = p.lambda;
     s.inv_r_min[f] = 1.0 / std::min(r[p.a], r[p.b]);
     s.resolved[f] = static_cast<std::uint8_t>(p.resolved_once != 0);
-    s.src[f] = static_cast<std::uint32_t>(k);
   }
 }
 

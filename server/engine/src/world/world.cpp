@@ -101,6 +101,7 @@ ObjectId World::create_body(const BodyDef& def) {
   params::ObjectParams p = w.table.resolve(def.archetype, id.value, def.collision_id);
   p.fixed = false;
   w.bodies.push_back_default();
+  w.cell0_dirty = true;
   w.bodies.x[dense] = def.position.x;
   w.bodies.y[dense] = def.position.y;
   w.bodies.z[dense] = def.position.z;
@@ -124,6 +125,7 @@ void World::destroy_body(ObjectId id) {
     w.body_params[dense] = w.body_params[last];
   }
   w.bodies.swap_remove(dense);
+  w.cell0_dirty = true;
   w.body_params.pop_back();
   Impl::Slot& s = w.slots[id.index()];
   s.kind = Impl::SlotKind::kFree;

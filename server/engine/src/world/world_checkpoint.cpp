@@ -260,6 +260,7 @@ void World::Impl::apply_state(detail::WorldState&& st) {
   free_slots = std::move(st.free_slots);
   fixed_params = std::move(st.fixed_params);
   bodies = std::move(st.bodies);
+  cell0_dirty = true;
   body_params = std::move(st.body_params);
   cameras = std::move(st.cameras);
   all_coefficients_dirty = st.all_coefficients_dirty;

@@ -98,11 +98,14 @@ double World::Impl::cell0_size() {
   if (settings.cell_size_m > 0.0) return settings.cell_size_m;
   // Finest cell = diameter of the median body plus margin: most bodies land on level 0 and test
   // only their 3x3 neighbourhood; bigger bodies go to coarser levels.
+  if (!cell0_dirty) return cell0_cached_m;
   median_scratch.assign(bodies.r.begin(), bodies.r.end());
   if (median_scratch.empty()) return 1.0;
   auto mid = median_scratch.begin() + static_cast<std::ptrdiff_t>(median_scratch.size() / 2);
   std::nth_element(median_scratch.begin(), mid, median_scratch.end());
-  return 2.0 * (*mid + settings.contact_margin_m);
+  cell0_cached_m = 2.0 * (*mid + settings.contact_margin_m);
+  cell0_dirty = false;
+  return cell0_cached_m;
 }
 
 void World::Impl::build_pairs() {
