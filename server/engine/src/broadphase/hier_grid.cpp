@@ -22,6 +22,23 @@ inline bool is_candidate(const GridBodyView& v, std::uint32_t i, std::uint32_t j
   return (v.group[i] & v.mask[j]) != 0 && (v.group[j] & v.mask[i]) != 0;
 }
 
+// Tests body i against bodies [from, to) in order, one unit of budget each, appending candidates.
+// Body i's values are read once; the arithmetic is is_candidate's, term for term.
+inline void scan_range(const GridBodyView& v, std::uint32_t i, std::uint32_t from, std::uint32_t to, double margin,
+                       std::uint32_t& budget, std::vector<CandidatePair>& out) {
+  if (from >= to || budget == 0) return;
+  const std::uint32_t end = to - from > budget ? from + budget : to;
+  budget -= end - from;
+  const double xi = v.x[i], yi = v.y[i], ri = v.r[i];
+  for (std::uint32_t j = from; j < end; ++j) {
+    const double dx = v.x[j] - xi;
+    const double dy = v.y[j] - yi;
+    const double reach = ri + v.r[j] + margin;
+    if (dx * dx + dy * dy >= reach * reach) continue;
+    if (is_candidate(v, i, j, margin)) out.push_back({i, j});
+  }
+}
+
 }  // namespace
 
 std::uint64_t HierGrid::level_key(const Level& lv, std::int64_t cx, std::int64_t cy) {
@@ -103,23 +120,27 @@ std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::ui
   std::uint32_t capped = 0;
   for (int l = 0; l < level_count_; ++l) {
     const std::vector<Cell>& cells = levels_[l].cells;
+    const std::uint64_t stride = levels_[l].stride;
     std::size_t up = 0;  // first cell at or after (cx - 1, cy + 1); only moves forward
     for (std::size_t k = 0; k < cells.size(); ++k) {
       const Cell& c = cells[k];
-      const std::uint64_t stride = levels_[l].stride;
       const std::uint64_t up_lo = c.key + stride - 1, up_hi = c.key + stride + 1;
       while (up < cells.size() && cells[up].key < up_lo) ++up;
-      const Cell* right = (k + 1 < cells.size() && cells[k + 1].key == c.key + 1) ? &cells[k + 1] : nullptr;
+      // The cell and its right neighbour are adjacent in the sorted order, and so are the (up
+      // to three) cells of the row above: two contiguous ranges of bodies, scanned in the same
+      // order as cell by cell.
+      const std::uint32_t near_end = (k + 1 < cells.size() && cells[k + 1].key == c.key + 1) ? cells[k + 1].end : c.end;
+      std::uint32_t up_begin = 0, up_end = 0;
+      if (up < cells.size() && cells[up].key <= up_hi) {
+        std::size_t q = up;
+        while (q + 1 < cells.size() && cells[q + 1].key <= up_hi) ++q;
+        up_begin = cells[up].begin;
+        up_end = cells[q].end;
+      }
       for (std::uint32_t i = c.begin; i < c.end; ++i) {
         std::uint32_t budget = max_candidates;
-        auto scan = [&](std::uint32_t from, std::uint32_t to) {
-          for (std::uint32_t j = from; j < to && budget > 0; ++j, --budget) {
-            if (is_candidate(v, i, j, margin)) out.push_back({i, j});
-          }
-        };
-        scan(i + 1, c.end);
-        if (right) scan(right->begin, right->end);
-        for (std::size_t q = up; q < cells.size() && cells[q].key <= up_hi; ++q) scan(cells[q].begin, cells[q].end);
+        scan_range(v, i, i + 1, near_end, margin, budget, out);
+        scan_range(v, i, up_begin, up_end, margin, budget, out);
         if (budget == 0) ++capped;
       }
     }

@@ -50,7 +50,6 @@ inline double project_fast_pair(const BodyPtrs& b, PairSchedule& s, std::uint32_
   b.x[ia] -= nx * move_a; b.y[ia] -= ny * move_a;
   b.x[ib] += nx * move_b; b.y[ib] += ny * move_b;
   if (pen > 0.0) {
-    s.resolved[k] = 1;
     s.share_now[k] = s.share_conflict[k];
     return pen * s.inv_r_min[k];
   }
@@ -63,17 +62,28 @@ inline double project_fast_range(const BodyPtrs& b, PairSchedule& s, std::uint32
   double worst = 0.0;
   std::uint32_t k = begin;
 #if defined(__SSE2__)
+  // Plain local pointers, so that stores through them need not reload the vectors' members.
+  double* const x = b.x;
+  double* const y = b.y;
+  const std::uint32_t* const ia = s.a.data();
+  const std::uint32_t* const ib = s.b.data();
+  const double* const target_p = s.target.data();
+  double* const lambda_p = s.lambda.data();
+  double* const share_p = s.share_now.data();
+  const double* const conflict_p = s.share_conflict.data();
+  const double* const inv_r_min_p = s.inv_r_min.data();
   const __m128d zero = _mm_setzero_pd();
   const __m128d eps = _mm_set1_pd(1e-9);
+  const __m128d one = _mm_set1_pd(1.0);
   __m128d worst2 = zero;
   for (; k + 2 <= end; k += 2) {
-    const std::uint32_t a0 = s.a[k], a1 = s.a[k + 1], b0 = s.b[k], b1 = s.b[k + 1];
-    const __m128d xa = _mm_set_pd(b.x[a1], b.x[a0]), ya = _mm_set_pd(b.y[a1], b.y[a0]);
-    const __m128d xb = _mm_set_pd(b.x[b1], b.x[b0]), yb = _mm_set_pd(b.y[b1], b.y[b0]);
+    const std::uint32_t a0 = ia[k], a1 = ia[k + 1], b0 = ib[k], b1 = ib[k + 1];
+    const __m128d xa = _mm_set_pd(x[a1], x[a0]), ya = _mm_set_pd(y[a1], y[a0]);
+    const __m128d xb = _mm_set_pd(x[b1], x[b0]), yb = _mm_set_pd(y[b1], y[b0]);
     const __m128d dx = _mm_sub_pd(xb, xa), dy = _mm_sub_pd(yb, ya);
     const __m128d d2 = _mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy));
-    const __m128d target = _mm_loadu_pd(&s.target[k]);
-    const __m128d lambda = _mm_loadu_pd(&s.lambda[k]);
+    const __m128d target = _mm_loadu_pd(target_p + k);
+    const __m128d lambda = _mm_loadu_pd(lambda_p + k);
     // Lanes the scalar path returns from early: separated with nothing to take back.
     const __m128d skip = _mm_and_pd(_mm_cmpge_pd(d2, _mm_mul_pd(target, target)), _mm_cmpeq_pd(lambda, zero));
     const int skip_bits = _mm_movemask_pd(skip);
@@ -88,9 +98,9 @@ inline double project_fast_range(const BodyPtrs& b, PairSchedule& s, std::uint32
     const __m128d pen = _mm_sub_pd(target, dist);
     const __m128d new_lambda = _mm_max_pd(_mm_add_pd(lambda, pen), zero);  // std::max(0.0, v)
     const __m128d step = _mm_sub_pd(new_lambda, lambda);
-    const __m128d inv = _mm_div_pd(_mm_set1_pd(1.0), dist);
+    const __m128d inv = _mm_div_pd(one, dist);
     const __m128d nx = _mm_mul_pd(dx, inv), ny = _mm_mul_pd(dy, inv);
-    const __m128d share = _mm_loadu_pd(&s.share_now[k]);
+    const __m128d share = _mm_loadu_pd(share_p + k);
     const __m128d move_a = _mm_mul_pd(step, share);
     const __m128d move_b = _mm_sub_pd(step, move_a);
     // Skipped lanes keep every value they had (a select, not an add of zero: -0.0 stays -0.0).
@@ -101,19 +111,16 @@ inline double project_fast_range(const BodyPtrs& b, PairSchedule& s, std::uint32
     const __m128d ya2 = keep(ya, _mm_sub_pd(ya, _mm_mul_pd(ny, move_a)));
     const __m128d xb2 = keep(xb, _mm_add_pd(xb, _mm_mul_pd(nx, move_b)));
     const __m128d yb2 = keep(yb, _mm_add_pd(yb, _mm_mul_pd(ny, move_b)));
-    _mm_storel_pd(&b.x[a0], xa2); _mm_storeh_pd(&b.x[a1], xa2);
-    _mm_storel_pd(&b.y[a0], ya2); _mm_storeh_pd(&b.y[a1], ya2);
-    _mm_storel_pd(&b.x[b0], xb2); _mm_storeh_pd(&b.x[b1], xb2);
-    _mm_storel_pd(&b.y[b0], yb2); _mm_storeh_pd(&b.y[b1], yb2);
-    _mm_storeu_pd(&s.lambda[k], keep(lambda, new_lambda));
+    _mm_storel_pd(x + a0, xa2); _mm_storeh_pd(x + a1, xa2);
+    _mm_storel_pd(y + a0, ya2); _mm_storeh_pd(y + a1, ya2);
+    _mm_storel_pd(x + b0, xb2); _mm_storeh_pd(x + b1, xb2);
+    _mm_storel_pd(y + b0, yb2); _mm_storeh_pd(y + b1, yb2);
+    _mm_storeu_pd(lambda_p + k, keep(lambda, new_lambda));
     // Branch-free from here: whether a lane pushed is data-dependent and mispredicts often.
     const __m128d pushed = _mm_andnot_pd(skip, _mm_cmpgt_pd(pen, zero));
-    const int pushed_bits = _mm_movemask_pd(pushed);
-    const __m128d conflict = _mm_loadu_pd(&s.share_conflict[k]);
-    _mm_storeu_pd(&s.share_now[k], _mm_or_pd(_mm_and_pd(pushed, conflict), _mm_andnot_pd(pushed, share)));
-    s.resolved[k] |= static_cast<std::uint8_t>(pushed_bits & 1);
-    s.resolved[k + 1] |= static_cast<std::uint8_t>(pushed_bits >> 1);
-    worst2 = _mm_max_pd(worst2, _mm_mul_pd(_mm_and_pd(pushed, pen), _mm_loadu_pd(&s.inv_r_min[k])));
+    const __m128d conflict = _mm_loadu_pd(conflict_p + k);
+    _mm_storeu_pd(share_p + k, _mm_or_pd(_mm_and_pd(pushed, conflict), _mm_andnot_pd(pushed, share)));
+    worst2 = _mm_max_pd(worst2, _mm_mul_pd(_mm_and_pd(pushed, pen), _mm_loadu_pd(inv_r_min_p + k)));
   }
   double lanes[2];
   _mm_storeu_pd(lanes, worst2);

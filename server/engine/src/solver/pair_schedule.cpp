@@ -54,7 +54,7 @@ void build_pair_schedule(const SolverBodies& bodies, const std::vector<SolverPai
   }
   s.a.resize(fast_total); s.b.resize(fast_total); s.target.resize(fast_total);
   s.share_now.resize(fast_total); s.share_conflict.resize(fast_total); s.lambda.resize(fast_total);
-  s.inv_r_min.resize(fast_total); s.resolved.resize(fast_total);
+  s.inv_r_min.resize(fast_total);
   const double* r = bodies.r.data();
   for (std::uint32_t f = 0; f < fast_total; ++f) {
     const SolverPair& p = pairs[s.src[f]];
@@ -68,16 +68,11 @@ void build_pair_schedule(const SolverBodies& bodies, const std::vector<SolverPai
     s.share_now[f] = p.resolved_once != 0 ? conflict : p.share_a;
     s.lambda[f] = p.lambda;
     s.inv_r_min[f] = 1.0 / std::min(r[p.a], r[p.b]);
-    s.resolved[f] = static_cast<std::uint8_t>(p.resolved_once != 0);
   }
 }
 
 void write_back_pair_schedule(const PairSchedule& s, std::vector<SolverPair>& pairs) {
-  for (std::size_t f = 0; f < s.fast_size(); ++f) {
-    SolverPair& p = pairs[s.src[f]];
-    p.lambda = s.lambda[f];
-    p.resolved_once = s.resolved[f];
-  }
+  for (std::size_t f = 0; f < s.fast_size(); ++f) pairs[s.src[f]].lambda = s.lambda[f];
 }
 
 }  // namespace throng::detail

@@ -32,11 +32,13 @@ struct PairSchedule {
   // Fast pairs in level order.
   std::vector<std::uint32_t> a, b;
   std::vector<double> target;
-  std::vector<double> share_now;       // share of the next push: exact, then the conflict share
+  // Share of the next push: exact until the pair's first push, then the conflict share. This is
+  // also the fast pairs' only record of SolverPair::resolved_once, which nothing reads after the
+  // solve, so it is not copied back.
+  std::vector<double> share_now;
   std::vector<double> share_conflict;  // exact share clamped by the conflict limit
   std::vector<double> lambda;
   std::vector<double> inv_r_min;       // 1 / smaller radius
-  std::vector<std::uint8_t> resolved;
   std::vector<std::uint32_t> src;      // index in the caller's pair list
 
   std::vector<std::uint32_t> slow;     // other pairs in level order: indices in the caller's list
@@ -52,11 +54,11 @@ struct PairSchedule {
   std::size_t fast_size() const { return a.size(); }
 };
 
-// Builds the schedule of `pairs` (fast copies take the pairs' current lambda and resolved flag).
+// Builds the schedule of `pairs` (fast copies take the pairs' current lambda and share).
 void build_pair_schedule(const SolverBodies& bodies, const std::vector<SolverPair>& pairs, double conflict_limit,
                          PairSchedule& s);
 
-// Copies the fast pairs' lambda and resolved flag back into the caller's list.
+// Copies the fast pairs' lambda back into the caller's list.
 void write_back_pair_schedule(const PairSchedule& s, std::vector<SolverPair>& pairs);
 
 }  // namespace throng::detail
