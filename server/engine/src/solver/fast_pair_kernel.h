@@ -50,7 +50,7 @@ inline double project_fast_pair(const BodyPtrs& b, PairSchedule& s, std::uint32_
   b.x[ia] -= nx * move_a; b.y[ia] -= ny * move_a;
   b.x[ib] += nx * move_b; b.y[ib] += ny * move_b;
   if (pen > 0.0) {
-    s.share_now[k] = s.share_conflict[k];
+    s.share_now[k] = std::clamp(s.share_now[k], s.conflict_lo, s.conflict_hi);
     return pen * s.inv_r_min[k];
   }
   return 0.0;
@@ -70,11 +70,11 @@ inline double project_fast_range(const BodyPtrs& b, PairSchedule& s, std::uint32
   const double* const target_p = s.target.data();
   double* const lambda_p = s.lambda.data();
   double* const share_p = s.share_now.data();
-  const double* const conflict_p = s.share_conflict.data();
   const double* const inv_r_min_p = s.inv_r_min.data();
   const __m128d zero = _mm_setzero_pd();
   const __m128d eps = _mm_set1_pd(1e-9);
   const __m128d one = _mm_set1_pd(1.0);
+  const __m128d conflict_lo = _mm_set1_pd(s.conflict_lo), conflict_hi = _mm_set1_pd(s.conflict_hi);
   __m128d worst2 = zero;
   for (; k + 2 <= end; k += 2) {
     const std::uint32_t a0 = ia[k], a1 = ia[k + 1], b0 = ib[k], b1 = ib[k + 1];
@@ -118,7 +118,8 @@ inline double project_fast_range(const BodyPtrs& b, PairSchedule& s, std::uint32
     _mm_storeu_pd(lambda_p + k, keep(lambda, new_lambda));
     // Branch-free from here: whether a lane pushed is data-dependent and mispredicts often.
     const __m128d pushed = _mm_andnot_pd(skip, _mm_cmpgt_pd(pen, zero));
-    const __m128d conflict = _mm_loadu_pd(conflict_p + k);
+    // std::clamp(share, lo, hi), operand order chosen so that ties and bounds give the same bits.
+    const __m128d conflict = _mm_max_pd(_mm_min_pd(share, conflict_hi), conflict_lo);
     _mm_storeu_pd(share_p + k, _mm_or_pd(_mm_and_pd(pushed, conflict), _mm_andnot_pd(pushed, share)));
     worst2 = _mm_max_pd(worst2, _mm_mul_pd(_mm_and_pd(pushed, pen), _mm_loadu_pd(inv_r_min_p + k)));
   }

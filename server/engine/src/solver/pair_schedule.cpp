@@ -53,19 +53,19 @@ void build_pair_schedule(const SolverBodies& bodies, const std::vector<SolverPai
     else s.src[s.fast_count[lv]++] = static_cast<std::uint32_t>(k);
   }
   s.a.resize(fast_total); s.b.resize(fast_total); s.target.resize(fast_total);
-  s.share_now.resize(fast_total); s.share_conflict.resize(fast_total); s.lambda.resize(fast_total);
+  s.share_now.resize(fast_total); s.lambda.resize(fast_total);
   s.inv_r_min.resize(fast_total);
   const double* r = bodies.r.data();
+  // Shares are in [0, 1], so [0, 1] leaves them exact when the limit is off.
+  s.conflict_lo = conflict_limit > 0.0 ? conflict_limit : 0.0;
+  s.conflict_hi = conflict_limit > 0.0 ? 1.0 - conflict_limit : 1.0;
   for (std::uint32_t f = 0; f < fast_total; ++f) {
     const SolverPair& p = pairs[s.src[f]];
     s.a[f] = p.a;
     s.b[f] = p.b;
     s.target[f] = p.target;
     // The same share the general projection would pick (contact_solver.cpp).
-    const double conflict =
-        conflict_limit > 0.0 ? std::clamp(p.share_a, conflict_limit, 1.0 - conflict_limit) : p.share_a;
-    s.share_conflict[f] = conflict;
-    s.share_now[f] = p.resolved_once != 0 ? conflict : p.share_a;
+    s.share_now[f] = p.resolved_once != 0 ? std::clamp(p.share_a, s.conflict_lo, s.conflict_hi) : p.share_a;
     s.lambda[f] = p.lambda;
     s.inv_r_min[f] = 1.0 / std::min(r[p.a], r[p.b]);
   }

@@ -36,7 +36,9 @@ struct PairSchedule {
   // also the fast pairs' only record of SolverPair::resolved_once, which nothing reads after the
   // solve, so it is not copied back.
   std::vector<double> share_now;
-  std::vector<double> share_conflict;  // exact share clamped by the conflict limit
+  // The conflict share is std::clamp(exact share, lo, hi); clamping is idempotent, so clamping
+  // share_now again after later pushes changes nothing. [0, 1] when the limit is off.
+  double conflict_lo = 0.0, conflict_hi = 1.0;
   std::vector<double> lambda;
   std::vector<double> inv_r_min;       // 1 / smaller radius
   std::vector<std::uint32_t> src;      // index in the caller's pair list
