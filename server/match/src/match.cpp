@@ -60,6 +60,7 @@ Match::Impl::Impl(const scene::SceneDef& scene_in, const MatchConfig& config_in,
     dense_of_slot[oid.index()] = static_cast<std::uint32_t>(d);
   }
   roster_of_slot = dense_of_slot;  // the roster is in the dense order at construction
+  contacts_granted.reserve(config.contacts.max_clients);
   ai.init(w);
   info = build_match_info(MatchInfoSource{scene, table, w, built.scenery_ids, built.body_ids, config, match_id});
   compute_checkpoint_hashes();
@@ -117,6 +118,7 @@ const TickReport& Match::tick(Outbox& out) {
   m.ticks = tick;
   const auto t4 = clock::now();
   m.build_snapshots(tick, out);
+  m.build_contacts(tick, out);
   const auto t5 = clock::now();
 
   if (m.info_dirty) {
@@ -167,6 +169,9 @@ std::uint64_t Match::commands_accepted_total() const { return impl_->accepted_to
 const MatchConfig& Match::config() const { return impl_->config; }
 const World& Match::world() const { return impl_->world(); }
 void Match::save_checkpoint(std::vector<std::uint8_t>& out) const { impl_->save_checkpoint(out); }
-void Match::restore_checkpoint(std::span<const std::uint8_t> bytes) { impl_->restore_checkpoint(bytes); }
+void Match::restore_checkpoint(std::span<const std::uint8_t> bytes) {
+  impl_->restore_checkpoint(bytes);
+  impl_->contacts_granted.clear();  // not in checkpoints: served again from the client's next command
+}
 
 }  // namespace throng::match

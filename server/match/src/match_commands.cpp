@@ -62,6 +62,7 @@ void Match::Impl::apply_commands(std::uint64_t tick) {
     c.camera = Vec3{cmd.camera_x, cmd.camera_y, cmd.camera_z};
     c.has_camera = true;
     set_brace(c, (cmd.actions & protocol::kActionBrace) != 0u);
+    note_contacts_request(c, (cmd.actions & protocol::kActionContacts) != 0u);  // never touches the world
     c.last_applied_sequence = cmd.sequence;
     c.last_applied_tick = tick;
     c.last_activity_tick = tick;

@@ -38,6 +38,9 @@ void validate_config(const MatchConfig& c) {
     check(c.interest.budget_bytes, 128, 1u << 24, "interest.budget_bytes");
   check(c.interest.keepalive_ticks, 1, 1e6, "interest.keepalive_ticks");
   check(c.interest.removed_repeat, 1, 1000, "interest.removed_repeat");
+  check(c.contacts.max_clients, 0, 256, "contacts.max_clients");
+  check(c.contacts.max_pairs, 1, 1024, "contacts.max_pairs");
+  check(c.contacts.radius_m, 0.0, 1000.0, "contacts.radius_m", true);
 }
 
 }  // namespace throng::match

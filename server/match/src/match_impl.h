@@ -5,6 +5,7 @@
 //   match_commands.cpp command validation order and application, cameras
 //   param_updates.cpp  operator parameter / policy changes
 //   match_snapshots.cpp one Snapshot per connected client
+//   match_contacts.cpp  the contact-pairs debug channel (grants, one ContactPairs per granted client)
 #include <array>
 #include <cstdint>
 #include <exception>
@@ -16,6 +17,7 @@
 #include "client_registry.h"
 #include "npc_ai.h"
 #include "worker_pool.h"
+#include "throng/match/contacts.h"
 #include "throng/match/input_queue.h"
 #include "throng/match/match.h"
 #include "throng/match/match_config.h"
@@ -48,6 +50,8 @@ struct Match::Impl {
   void apply_timeouts(std::uint64_t tick, Outbox& out);
   void feed_cameras();
   void build_snapshots(std::uint64_t tick, Outbox& out);
+  void note_contacts_request(const ClientRecord& c, bool wants);  // per applied command
+  void build_contacts(std::uint64_t tick, Outbox& out);
 
   // --- helpers ---------------------------------------------------------------------------------
   std::optional<RejectReason> check_command(const protocol::Command& c, std::uint64_t tick);
@@ -114,6 +118,11 @@ struct Match::Impl {
   std::vector<std::uint32_t> roster_of_slot;  // ObjectId::index() -> MatchInfo roster index
   std::vector<std::uint32_t> perm, scratch_u32;
   std::vector<float> scratch_f32;
+
+  // The contacts debug channel (match_contacts.cpp). Capacity reserved at construction.
+  ContactSelector contact_selector;
+  std::vector<std::uint32_t> contacts_granted;  // client ids served, ascending
+  std::uint64_t contacts_refused = 0;
 };
 
 }  // namespace throng::match

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -26,6 +27,7 @@
 
 namespace throng {
 class World;
+struct ObjectId;
 }
 
 namespace throng::match {
@@ -61,6 +63,8 @@ struct TickReport {
   std::uint32_t push_events = 0;  // contacts pushed this tick
   std::uint32_t snapshot_poses = 0;
   double view_error_max_m = 0;    // over all clients this tick
+  std::uint32_t contact_pairs = 0;     // pairs sent on the contacts channel this tick, all clients
+  std::uint32_t contacts_refused = 0;  // commands asking for contacts the channel had no room for
 };
 
 // Lifecycle events the transport must act on (open/close a client's snapshot channel) and the
@@ -83,12 +87,17 @@ struct Outbox {
   std::vector<ClientEvent> client_events;
   std::vector<protocol::Snapshot> snapshots;  // first snapshot_count are this tick's
   std::size_t snapshot_count = 0;
+  // The contacts debug channel: one per granted client, ascending client id; first
+  // contacts_count are this tick's.
+  std::vector<protocol::ContactPairs> contacts;
+  std::size_t contacts_count = 0;
   bool match_info_changed = false;            // republish match_info()
   void clear() {
     join_replies.clear();
     param_replies.clear();
     client_events.clear();
     snapshot_count = 0;
+    contacts_count = 0;
     match_info_changed = false;
   }
 };
@@ -142,6 +151,18 @@ class Match {
   std::uint64_t commands_accepted_total() const;
   const MatchConfig& config() const;
   const World& world() const;
+  // The facing of a body in radians (a client's from its commands, an NPC's from the AI), as
+  // snapshots carry it; nullopt when id is not a body.
+  std::optional<float> facing_rad(ObjectId id) const;
+
+  // --- the contact-pairs debug channel (match_contacts.cpp) ------------------------------------
+  // A client asks with kActionContacts in its commands; while its newest applied command carries
+  // the bit (and it holds one of config.contacts.max_clients places, first come) the tick builds
+  // it a ContactPairs in the Outbox. Requests the channel has no room for are refused (the command
+  // itself still applies) and counted. Never changes the simulation. Not in checkpoints: after a
+  // restore a client is served again from its next command.
+  std::span<const std::uint32_t> contacts_clients() const;  // served now, ascending id
+  std::uint64_t contacts_refused_total() const;
 
   // --- checkpoints (layout: server/match/src/CHECKPOINT.md) ------------------------------------
   // Writes the match's complete simulation state into `out` (cleared first; its capacity is

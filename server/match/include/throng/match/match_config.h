@@ -13,6 +13,16 @@ struct InterestConfig {
   std::uint32_t removed_repeat = 3;   // a removal is repeated in this many snapshots (best-effort)
 };
 
+// The contact-pairs debug channel (protocol::kActionContacts, the ContactPairs topic; contacts.h
+// says which pairs). Bounded so that it costs the server and the other clients little: only
+// granted clients get it, a fixed number of pairs each, in a sample of its own (never out of the
+// snapshot budget). Not part of the match log's config: it never changes a result.
+struct ContactsConfig {
+  std::uint32_t max_clients = 4;  // clients served at once, first come; 0 = the channel is off [0, 256]
+  std::uint32_t max_pairs = 32;   // pairs per client and tick, nearest the camera first [1, 1024]
+  double radius_m = 12.0;         // around the client's camera (and never beyond interest.radius_m) (0, 1000]
+};
+
 struct MatchConfig {
   std::uint32_t tick_hz = 30;
   std::uint32_t max_clients = 256;
@@ -26,6 +36,7 @@ struct MatchConfig {
   std::uint32_t worker_threads = 2;
   std::uint64_t seed = 1;                 // AI tie-breaks (deterministic)
   InterestConfig interest;
+  ContactsConfig contacts;
 };
 
 void validate_config(const MatchConfig& config);
