@@ -37,21 +37,51 @@ inline double pinned_share(const SolverBodies& b, const std::vector<SolverPlane>
 // Warm-start pushes above this fraction of the smaller radius are cut back (see apply_warm_start).
 constexpr double kWarmStartCapOverRadius = 0.5;
 
+inline void warm_start_pair(SolverBodies& b, SolverPair& p, const std::vector<SolverPlane>& planes) {
+  if (p.lambda == 0.0) return;
+  // Last tick's push is a guess, not a fact: cap it so that a pair whose push kept being undone
+  // by something else (a wall) cannot accumulate a push larger than the bodies themselves.
+  p.lambda = std::min(p.lambda, kWarmStartCapOverRadius * std::min(b.r[p.a], b.r[p.b]));
+  double nx, ny;
+  pair_direction(b, p, nx, ny);
+  // Same split as the solve itself, including bodies pinned against fixed planes.
+  const double move_a = p.lambda * pinned_share(b, planes, p, p.share_a);
+  const double move_b = p.lambda - move_a;
+  b.x[p.a] -= nx * move_a; b.y[p.a] -= ny * move_a;
+  b.x[p.b] += nx * move_b; b.y[p.b] += ny * move_b;
+}
+
+// warm_start_pair for a fast pair of the schedule (no planes: the pinned share is the exact one,
+// which share_now still is before the first sweep). Same operations, same order.
+inline void warm_start_fast(const BodyPtrs& b, PairSchedule& s, std::uint32_t f) {
+  double lambda = s.lambda[f];
+  if (lambda == 0.0) return;
+  const std::uint32_t ia = s.a[f], ib = s.b[f];
+  lambda = std::min(lambda, kWarmStartCapOverRadius * std::min(b.r[ia], b.r[ib]));
+  s.lambda[f] = lambda;
+  const double dx = b.x[ib] - b.x[ia], dy = b.y[ib] - b.y[ia];
+  const double d = std::sqrt(dx * dx + dy * dy);
+  double nx, ny;
+  if (d > 1e-9 * (b.r[ia] + b.r[ib])) { nx = dx / d; ny = dy / d; }
+  else coincident_direction(b.id[ia], b.id[ib], nx, ny);
+  const double move_a = lambda * s.share_now[f];
+  const double move_b = lambda - move_a;
+  b.x[ia] -= nx * move_a; b.y[ia] -= ny * move_a;
+  b.x[ib] += nx * move_b; b.y[ib] += ny * move_b;
+}
+
 }  // namespace
 
 void apply_warm_start(SolverBodies& b, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes) {
-  for (SolverPair& p : pairs) {
-    if (p.lambda == 0.0) continue;
-    // Last tick's push is a guess, not a fact: cap it so that a pair whose push kept being undone
-    // by something else (a wall) cannot accumulate a push larger than the bodies themselves.
-    p.lambda = std::min(p.lambda, kWarmStartCapOverRadius * std::min(b.r[p.a], b.r[p.b]));
-    double nx, ny;
-    pair_direction(b, p, nx, ny);
-    // Same split as the solve itself, including bodies pinned against fixed planes.
-    const double move_a = p.lambda * pinned_share(b, planes, p, p.share_a);
-    const double move_b = p.lambda - move_a;
-    b.x[p.a] -= nx * move_a; b.y[p.a] -= ny * move_a;
-    b.x[p.b] += nx * move_b; b.y[p.b] += ny * move_b;
+  for (SolverPair& p : pairs) warm_start_pair(b, p, planes);
+}
+
+void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
+                      PairSchedule& schedule) {
+  const BodyPtrs b(bodies);
+  for (const PairSchedule::Level& lv : schedule.levels) {
+    for (std::uint32_t f = lv.fast_begin; f < lv.fast_end; ++f) warm_start_fast(b, schedule, f);
+    for (std::uint32_t k = lv.slow_begin; k < lv.slow_end; ++k) warm_start_pair(bodies, pairs[schedule.slow[k]], planes);
   }
 }
 
@@ -68,7 +98,8 @@ void measure_start_depths(const SolverBodies& b, std::vector<SolverPair>& pairs,
 }
 
 SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
-                           std::uint32_t iterations, double converged, double conflict_limit, PairSchedule& schedule) {
+                           std::uint32_t iterations, double converged, double conflict_limit, PairSchedule& schedule,
+                           bool scheduled) {
   SolveResult result;
   const BodyPtrs b(bodies);
   double worst = 0.0;
@@ -90,17 +121,13 @@ SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs,
     worst = std::max(worst, project_fast_range(b, schedule, lv.fast_begin, lv.fast_end));
     for (std::uint32_t k = lv.slow_begin; k < lv.slow_end; ++k) project_slow(pairs[schedule.slow[k]]);
   };
-  // Building the schedule costs about two sweeps' worth of time, so a crowd that settled within
-  // one sweep last tick (idle bodies, light contact) runs its first sweep in plain pair order —
-  // the same result — and gets a schedule only if it needs a second one. This is only a guess
-  // about speed: either path gives the same bits.
-  bool scheduled = false;
+  // Without a schedule yet (see wants_schedule), the first sweep runs in plain pair order — the
+  // same result — and the schedule is built only if a second sweep is needed.
   auto ensure_schedule = [&] {
     if (scheduled) return;
     build_pair_schedule(bodies, pairs, conflict_limit, schedule);
     scheduled = true;
   };
-  if (schedule.last_sweeps > 1) ensure_schedule();
   for (std::uint32_t it = 0; it < iterations; ++it) {
     worst = 0.0;
     if (it > 0) ensure_schedule();

@@ -17,6 +17,15 @@ struct SolveResult {
 
 // Applies each pair's warm-start push (pair.lambda from the previous tick) along the current normal.
 void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes);
+// The same in the schedule's level order (same bits, without each pair waiting on the previous
+// one); the fast pairs' lambda is then the schedule's copy.
+void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
+                      PairSchedule& schedule);
+
+// Building the schedule costs about two sweeps' worth of time, so a crowd that settled within one
+// sweep last tick (idle bodies, light contact) goes without one until it needs a second sweep.
+// Only a guess about speed: either path gives the same bits.
+inline bool wants_schedule(const PairSchedule& schedule) { return schedule.last_sweeps > 1; }
 
 // Records each pair's and plane's penetration at the start of the solve (for push events).
 void measure_start_depths(const SolverBodies& bodies, std::vector<SolverPair>& pairs, std::vector<SolverPlane>& planes);
@@ -28,9 +37,10 @@ void measure_start_depths(const SolverBodies& bodies, std::vector<SolverPair>& p
 // conflict_share_limit > 0 clamps the share of every push after a pair's first one in a tick into
 // [limit, 1 - limit] (see WorldSettings::conflict_share_limit); 0 keeps the exact share throughout.
 // The sweeps visit the pairs in the level order of pair_schedule.h (same result as the pairs' own
-// order, without the wait on each previous projection); `schedule` is reused scratch.
+// order, without the wait on each previous projection); `schedule` is reused scratch, already
+// built for these pairs if `scheduled`.
 SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
                            std::uint32_t iterations, double converged_pen_over_radius, double conflict_share_limit,
-                           PairSchedule& schedule);
+                           PairSchedule& schedule, bool scheduled);
 
 }  // namespace throng::detail

@@ -180,11 +180,17 @@ void World::Impl::build_pairs() {
 
 void World::Impl::solve() {
   const std::size_t n = sb.size();
-  if (settings.warm_start) detail::apply_warm_start(sb, pairs, planes);
+  const double conflict_limit = policy.mode() == params::PushMode::ratio ? settings.conflict_share_limit : 0.0;
+  const bool scheduled = detail::wants_schedule(pair_schedule);
+  if (scheduled) detail::build_pair_schedule(sb, pairs, conflict_limit, pair_schedule);
+  if (settings.warm_start) {
+    if (scheduled) detail::apply_warm_start(sb, pairs, planes, pair_schedule);
+    else detail::apply_warm_start(sb, pairs, planes);
+  }
   if (settings.record_push_events) detail::measure_start_depths(sb, pairs, planes);
-  const detail::SolveResult r =
-      detail::solve_contacts(sb, pairs, planes, settings.iterations, settings.converged_pen_over_radius,
-                             policy.mode() == params::PushMode::ratio ? settings.conflict_share_limit : 0.0, pair_schedule);
+  const detail::SolveResult r = detail::solve_contacts(sb, pairs, planes, settings.iterations,
+                                                       settings.converged_pen_over_radius, conflict_limit,
+                                                       pair_schedule, scheduled);
   stats.iterations_used = r.iterations_used;
   stats.max_pen_over_radius = r.max_pen_over_radius;
   const std::vector<std::uint32_t>& order = grid.order();
