@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "throng/protocol/codec.h"
+#include "throng/protocol/contacts.h"
 #include "throng/view/gateway.h"
 
 namespace throng::view {
@@ -235,6 +236,59 @@ TEST(Gateway, FrameJson) {
   EXPECT_EQ(f["input_errors_total"], 3);
   EXPECT_EQ(f["pages"], 1);
   EXPECT_EQ(f["ended"], false);
+}
+
+protocol::ContactPairs contacts(std::uint32_t client, std::uint64_t tick) {
+  protocol::ContactPairs c;
+  c.client_id = client;
+  c.tick = tick;
+  c.pairs_near = 3;
+  c.camera_x = 4.0f;
+  c.camera_y = 1.0f;
+  c.radius_m = 12.0f;
+  protocol::push_contact(c, 42, 43, 0.7, 0.012, 0.0105);
+  protocol::push_contact(c, 43, 44, 0.25, 0.001, 0.0008);
+  return c;
+}
+
+// The contacts overlay: frames carry the newest valid pairs while the page asks for them.
+TEST(Gateway, ContactsReachTheFrameOnlyWhileThePageAsks) {
+  Joined j;
+  ASSERT_TRUE(j.g.on_snapshot(snapshot(10, 0, 4.0), 100, j.t0));
+  PageInput in;
+  in.actions = protocol::kActionContacts;
+  const auto c1 = j.g.make_command(j.t0, in, j.t0);
+  ASSERT_TRUE(c1);
+  EXPECT_EQ(c1->actions, protocol::kActionContacts) << "the page's request travels in the command";
+
+  EXPECT_TRUE(j.g.on_contacts(contacts(5, 10), 84, j.t0));
+  EXPECT_FALSE(j.g.on_contacts(contacts(6, 10), 84, j.t0)) << "another client's pairs";
+  protocol::ContactPairs broken = contacts(5, 11);
+  broken.share_a.pop_back();
+  EXPECT_FALSE(j.g.on_contacts(broken, 80, j.t0)) << "arrays of different lengths";
+  EXPECT_FALSE(j.g.on_contacts(contacts(5, 9), 84, j.t0)) << "older than the newest";
+  EXPECT_EQ(j.g.contacts_rejected(), 2u);
+  EXPECT_EQ(j.g.contacts_received(), 1u);
+
+  auto f = nlohmann::json::parse(j.g.frame_json(j.t0 + 10ms, FrameExtras{}));
+  ASSERT_TRUE(f["contacts"].is_object()) << f.dump();
+  EXPECT_EQ(f["contacts"]["tick"], 10);
+  EXPECT_EQ(f["contacts"]["near"], 3);
+  const auto& p = f["contacts"]["pairs"];
+  ASSERT_EQ(p.size(), 10u) << "a, b, share_a, depth mm, push mm per pair";
+  EXPECT_EQ(p[0], 42);
+  EXPECT_EQ(p[1], 43);
+  EXPECT_NEAR(p[2].get<double>(), 0.7, 1e-4);
+  EXPECT_NEAR(p[3].get<double>(), 12.0, 0.05);
+  EXPECT_NEAR(p[7].get<double>(), 0.25, 1e-4);
+  EXPECT_GT(f["contacts_kbps"].get<double>(), 0.0);
+
+  // The page stops asking: the next command says so, and frames carry no pairs.
+  const auto c2 = j.g.make_command(j.t0 + 33ms, PageInput{}, j.t0 + 33ms);
+  ASSERT_TRUE(c2);
+  EXPECT_EQ(c2->actions, 0u);
+  f = nlohmann::json::parse(j.g.frame_json(j.t0 + 40ms, FrameExtras{}));
+  EXPECT_TRUE(f["contacts"].is_null());
 }
 
 }  // namespace

@@ -42,6 +42,14 @@ TEST(LogMessages, AcceptsTheCommands) {
   EXPECT_EQ(f.kind, LogCommand::Kind::focus);
   EXPECT_EQ(f.id, 4194305u);
   EXPECT_EQ(cmd(R"({"type":"focus","id":0})").id, 0u);
+  const auto on = cmd(R"({"type":"contacts","on":true,"camera_x":-12.5,"camera_y":3})");
+  EXPECT_EQ(on.kind, LogCommand::Kind::contacts);
+  EXPECT_TRUE(on.on);
+  EXPECT_EQ(on.camera_x, -12.5);
+  EXPECT_EQ(on.camera_y, 3.0);
+  const auto off = cmd(R"({"type":"contacts","on":false})");
+  EXPECT_EQ(off.kind, LogCommand::Kind::contacts);
+  EXPECT_FALSE(off.on);
 }
 
 TEST(LogMessages, RejectsBadMessages) {
@@ -60,6 +68,11 @@ TEST(LogMessages, RejectsBadMessages) {
   EXPECT_EQ(err(R"({"type":"focus","id":1.5})"), InputError::out_of_range);
   EXPECT_EQ(err(R"({"type":"focus","id":4294967296})"), InputError::out_of_range);
   EXPECT_EQ(err(R"({"type":"focus"})"), InputError::bad_type);
+  EXPECT_EQ(err(R"({"type":"contacts"})"), InputError::bad_type);
+  EXPECT_EQ(err(R"({"type":"contacts","on":1,"camera_x":0,"camera_y":0})"), InputError::bad_type);
+  EXPECT_EQ(err(R"({"type":"contacts","on":true})"), InputError::bad_type);  // the camera is required
+  EXPECT_EQ(err(R"({"type":"contacts","on":true,"camera_x":0,"camera_y":"0"})"), InputError::bad_type);
+  EXPECT_EQ(err(R"({"type":"contacts","on":true,"camera_x":0,"camera_y":2e4})"), InputError::out_of_range);
   EXPECT_EQ(err(R"({"type":"rewind"})"), InputError::unknown_type);
   EXPECT_EQ(err(R"({"type":"input","move_x":1})"), InputError::unknown_type);  // nothing to control in a replay
   EXPECT_EQ(err(R"({"tick":3})"), InputError::unknown_type);

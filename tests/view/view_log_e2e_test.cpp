@@ -2,7 +2,9 @@
 // DDS), headless Chromium on the page. The page must draw every logged body, Space must pause (the
 // tick stays still), scrubbing the timeline must show exactly the re-simulated world at that tick
 // (compared with a LogPlayer here), a speed change must reach the gateway, a click must follow
-// a character (its parameters arrive), and movement keys must send nothing. Keeps a screenshot as
+// a character (its parameters arrive), C must draw the contact planes around the followed
+// character with the re-simulated world's push ratios, and movement keys must send nothing.
+// Keeps a screenshot (overlay on) as
 // <build>/artifacts/view_log_e2e.png (THRONG_UPDATE_SCREENSHOT=1 also copies it to
 // docs/view_log_screenshot.png for the README).
 #include <gtest/gtest.h>
@@ -10,6 +12,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <thread>
 
 #include "chromium.h"
@@ -176,8 +179,22 @@ TEST(ViewLogE2E, PlaysScrubsPausesAndChangesSpeed) {
   // Click a character: the camera follows it and its parameters arrive with the frames.
   scrub(cdp, 450);
   ASSERT_TRUE(shows_tick(cdp, 450, stats));
-  player.seek(450);
-  const std::uint32_t pick = player.match().world().id_at(player.match().world().body_count() / 2).value;
+  // A character in a contact at tick 450 (from a player that records push events, as the viewer's
+  // does), so the contacts overlay below has pairs around it.
+  matchlog::PlayerOptions with_pushes;
+  with_pushes.resim.exact_interest = false;
+  with_pushes.resim.record_push_events = true;
+  matchlog::LogPlayer pushes(log.string(), with_pushes);
+  pushes.seek(450);
+  const World& pw = pushes.match().world();
+  std::uint32_t pick = pw.id_at(pw.body_count() / 2).value;
+  std::map<std::pair<std::uint32_t, std::uint32_t>, double> world_share;
+  for (const PushEvent& e : pw.push_events()) {
+    if (!pw.is_body(e.a) || !pw.is_body(e.b)) continue;
+    if (world_share.empty()) pick = e.a.value;
+    world_share[{e.a.value, e.b.value}] = e.share_a;
+  }
+  ASSERT_FALSE(world_share.empty()) << "no body pushed another at tick 450: the contacts check proves nothing";
   const auto at = cdp.evaluate("window.throngView.screenOf(" + std::to_string(pick) + ")");
   ASSERT_TRUE(at.is_object());
   const double x = at["x"].get<double>(), y = at["y"].get<double>();
@@ -207,6 +224,51 @@ TEST(ViewLogE2E, PlaysScrubsPausesAndChangesSpeed) {
   // Zoom in on the followed character (the wheel keeps it centred while following).
   cdp.call("Input.dispatchMouseEvent", {{"type", "mouseWheel"}, {"x", size[0].get<double>() / 2},
                                         {"y", size[1].get<double>() / 2}, {"deltaX", 0}, {"deltaY", -500}});
+
+  // C: collision shapes and contact planes. The viewer picks the pairs around the page's camera
+  // (the followed character) from the re-simulated world: same pairs, same ratios as that world.
+  key(cdp, "c", "KeyC", 67);
+  nlohmann::json pairs;
+  ASSERT_TRUE(wait_until(
+      [&] {
+        stats = cdp.evaluate(kStats);
+        if (!stats["contacts"].is_object() || stats["contacts"]["tick"] != 450 || stats["contacts_drawn"].get<int>() < 1)
+          return false;
+        pairs = cdp.evaluate("window.throngView.contacts()");
+        return true;
+      },
+      10s))
+      << "no contact pairs drawn in the replay: " << stats.dump().substr(0, 800);
+  EXPECT_EQ(stats["show_shapes"], true);
+  ASSERT_GT(pairs.size(), 0u);
+  const double ccx = stats["contacts"]["camera"][0].get<double>(), ccy = stats["contacts"]["camera"][1].get<double>();
+  const double radius = stats["contacts"]["radius"].get<double>();
+  std::size_t near = 0;
+  for (const PushEvent& e : pw.push_events()) {
+    if (!pw.is_body(e.a) || !pw.is_body(e.b)) continue;
+    const Vec3 a = pw.position(e.a), b = pw.position(e.b);
+    if (std::hypot((a.x + b.x) / 2 - ccx, (a.y + b.y) / 2 - ccy) <= radius) ++near;
+  }
+  EXPECT_EQ(stats["contacts"]["near"], near) << "camera (" << ccx << ", " << ccy << ") radius " << radius;
+  EXPECT_EQ(pairs.size(), std::min<std::size_t>(near, 32));
+  for (const auto& p : pairs) {
+    const auto it = world_share.find({p["a"].get<std::uint32_t>(), p["b"].get<std::uint32_t>()});
+    ASSERT_NE(it, world_share.end()) << "a pair the re-simulated world did not push: " << p.dump();
+    EXPECT_NEAR(p["share"].get<double>(), it->second, 1e-4);
+    EXPECT_GT(p["share"].get<double>(), 0.0);
+    EXPECT_LT(p["share"].get<double>(), 1.0);
+  }
+  EXPECT_GT(cdp.evaluate("window.throngView.planePixels()").get<int>(), 20) << "no contact plane on the canvas";
+  // Hovering the followed character lists its current pairs and ratios.
+  cdp.call("Input.dispatchMouseEvent",
+           {{"type", "mouseMoved"}, {"x", size[0].get<double>() / 2 + 1}, {"y", size[1].get<double>() / 2}});
+  EXPECT_TRUE(wait_until(
+      [&] {
+        stats = cdp.evaluate(kStats);
+        return stats["tooltip"].is_string() && stats["tooltip"].get<std::string>().find("vs #") != std::string::npos;
+      },
+      5s))
+      << stats.dump().substr(0, 800);
     key(cdp, " ", "Space", 32);  // playing again for the screenshot
   std::this_thread::sleep_for(800ms);
 

@@ -39,6 +39,12 @@ struct Inbox {
   };
   std::deque<Arrived> snapshots;
   std::uint64_t dropped = 0;
+  struct ArrivedContacts {
+    protocol::ContactPairs contacts;
+    std::size_t bytes;
+    TimePoint at;
+  };
+  std::vector<ArrivedContacts> contacts;  // the loop keeps the newest; at most kMaxSnapshots held
 
   void notify() { wake.notify_one(); }
 };
@@ -135,12 +141,16 @@ int run_gateway(const ViewOptions& o, const std::atomic<bool>& stop) {
       std::optional<protocol::MatchInfo> match;
       std::vector<protocol::JoinReply> replies;
       std::deque<Inbox::Arrived> arrived;
+      std::vector<Inbox::ArrivedContacts> arrived_contacts;
       {
         std::unique_lock lock(inbox.mutex);
-        inbox.wake.wait_until(lock, wake_at, [&] { return inbox.match || !inbox.replies.empty() || !inbox.snapshots.empty(); });
+        inbox.wake.wait_until(lock, wake_at, [&] {
+          return inbox.match || !inbox.replies.empty() || !inbox.snapshots.empty() || !inbox.contacts.empty();
+        });
         match.swap(inbox.match);
         replies.swap(inbox.replies);
         arrived.swap(inbox.snapshots);
+        arrived_contacts.swap(inbox.contacts);
       }
       const TimePoint now = Clock::now();
 
@@ -168,6 +178,16 @@ int run_gateway(const ViewOptions& o, const std::atomic<bool>& stop) {
           }
           inbox.notify();
         });
+        // The contacts overlay: nothing arrives until the page asks and the server grants it.
+        transport.subscribe_contacts(r.client_id, r.snapshot_partition, [&inbox](protocol::ContactPairs&& c, std::size_t bytes) {
+          const TimePoint at = Clock::now();
+          {
+            std::lock_guard lock(inbox.mutex);
+            if (inbox.contacts.size() >= Inbox::kMaxSnapshots) inbox.contacts.erase(inbox.contacts.begin());
+            inbox.contacts.push_back(Inbox::ArrivedContacts{std::move(c), bytes, at});
+          }
+          inbox.notify();
+        });
         next_command = now;
       }
       if (gateway.state() == Gateway::State::refused) {
@@ -186,6 +206,7 @@ int run_gateway(const ViewOptions& o, const std::atomic<bool>& stop) {
       }
 
       bool applied = false;
+      for (const auto& a : arrived_contacts) gateway.on_contacts(a.contacts, a.bytes, a.at);
       for (const auto& a : arrived) applied |= gateway.on_snapshot(a.snapshot, a.bytes, a.at);
       if (!arrived.empty()) {
         last_snapshot_at = now;
@@ -222,9 +243,10 @@ int run_gateway(const ViewOptions& o, const std::atomic<bool>& stop) {
       if (!o.quiet && now >= next_status) {
         next_status = now + 10s;
         const auto lat = gateway.latency_ms(now);
-        fmt::print(stderr, "throng-view: tick {}  objects {} (in view {})  latency {}  {:.1f} kbit/s  pages {}\n",
+        fmt::print(stderr, "throng-view: tick {}  objects {} (in view {})  latency {}  {:.1f} kbit/s  contacts {:.1f} kbit/s  pages {}\n",
                    gateway.world().newest_tick().value_or(0), gateway.world().object_count(), gateway.objects_in_view(),
-                   lat ? fmt::format("{:.0f} ms", *lat) : std::string("-"), gateway.kbit_per_s(now), web->sessions());
+                   lat ? fmt::format("{:.0f} ms", *lat) : std::string("-"), gateway.kbit_per_s(now),
+                   gateway.contacts_kbit_per_s(now), web->sessions());
       }
     }
 

@@ -76,6 +76,8 @@ int run_log_view(const LogViewOptions& o, const std::atomic<bool>& stop) {
     matchlog::PlayerOptions po;
     // The viewer reads the world, not snapshots: the cheap interest settings (replay.h) are enough.
     po.resim.exact_interest = false;
+    // The contacts overlay reads the world's push events (the state hash does not depend on them).
+    po.resim.record_push_events = true;
     player = std::make_unique<matchlog::LogPlayer>(o.log, po);
   } catch (const std::exception& e) {
     fmt::print(stderr, "throng-view: cannot play {}: {}\n", o.log, e.what());
@@ -109,6 +111,7 @@ int run_log_view(const LogViewOptions& o, const std::atomic<bool>& stop) {
   LogController control(LogTimeline{last, hz}, o.from, o.speed, !o.paused, Clock::now());
   LogFrameBuilder frames;
   std::uint32_t focus = 0;
+  std::optional<ContactsView> contacts;  // the overlay's camera while the page asks for contact pairs
   std::array<std::uint64_t, kInputErrorCount> errors{}, reported{};
   bool warned_hash = false;
   // Frames: after the shown tick changes (at most ~45 a second, so 8x does not flood the page),
@@ -142,6 +145,8 @@ int run_log_view(const LogViewOptions& o, const std::atomic<bool>& stop) {
     for (const auto& c : got) {
       if (c.kind == LogCommand::Kind::focus) {
         focus = c.id;
+      } else if (c.kind == LogCommand::Kind::contacts) {
+        contacts = c.on ? std::optional<ContactsView>(ContactsView{c.camera_x, c.camera_y}) : std::nullopt;
       } else {
         control.apply(c, now);
       }
@@ -151,7 +156,6 @@ int run_log_view(const LogViewOptions& o, const std::atomic<bool>& stop) {
     if (const auto seek = control.take_seek()) {
       web->broadcast(timeline_json(fields(true)));  // the page shows "seeking…" while we block
       const auto r = player->seek(*seek);
-      frames.reset_yaw();
       check_hash();
       if (!o.quiet && r.ms > 500)
         fmt::print(stderr, "throng-view: seek to tick {} took {:.1f} s ({} ticks re-simulated)\n", r.tick, r.ms / 1000.0,
@@ -165,7 +169,6 @@ int run_log_view(const LogViewOptions& o, const std::atomic<bool>& stop) {
     const std::uint64_t target = control.advance(now);
     if (target < player->tick()) {  // cannot happen without a seek; stay correct anyway
       player->seek(target);
-      frames.reset_yaw();
     }
     const TimePoint step_until = now + kStepBudget;
     while (player->tick() < target && Clock::now() < step_until) {
@@ -179,7 +182,7 @@ int run_log_view(const LogViewOptions& o, const std::atomic<bool>& stop) {
     if (((new_tick || dirty) && now - last_frame >= kMinFrameGap) || now - last_frame >= kHeartbeat) {
       std::uint64_t errors_total = 0;
       for (auto e : errors) errors_total += e;
-      web->broadcast(frames.frame_json(player->match(), fields(false), focus, web->sessions(), errors_total));
+      web->broadcast(frames.frame_json(player->match(), fields(false), focus, web->sessions(), errors_total, contacts));
       framed_tick = player->tick();
       last_frame = now;
       dirty = false;

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "throng/protocol/contacts.h"
 #include "throng/view/match_json.h"
 
 namespace throng::view {
@@ -14,6 +15,9 @@ namespace throng::view {
 namespace {
 
 constexpr auto kWindow = std::chrono::seconds(1);
+// Contact pairs older than this many ticks behind the newest snapshot are not drawn (the server
+// stopped sending them, or they were lost).
+constexpr std::uint64_t kContactsMaxAgeTicks = 15;
 
 std::uint64_t random_nonce() {
   std::random_device rd;
@@ -91,6 +95,19 @@ bool Gateway::on_snapshot(const protocol::Snapshot& snap, std::size_t wire_bytes
   return true;
 }
 
+bool Gateway::on_contacts(const protocol::ContactPairs& c, std::size_t wire_bytes, TimePoint now) {
+  if (state_ != State::joined || c.client_id != reply_.client_id || protocol::check_contact_pairs(c)) {
+    ++contacts_rejected_;
+    return false;
+  }
+  contacts_bytes_window_.emplace_back(now, wire_bytes);
+  expire_windows(now);
+  if (contacts_ && c.tick < contacts_->tick) return false;  // best-effort: an older one arrived late
+  contacts_ = c;
+  ++contacts_received_;
+  return true;
+}
+
 std::optional<protocol::Command> Gateway::make_command(TimePoint now, const std::optional<PageInput>& input,
                                                        std::optional<TimePoint> input_received) {
   if (state_ != State::joined) return std::nullopt;
@@ -112,6 +129,7 @@ std::optional<protocol::Command> Gateway::make_command(TimePoint now, const std:
   c.move_y = in.move_y;
   c.facing_rad = in.facing_rad;
   c.actions = in.actions;
+  contacts_requested_ = (c.actions & protocol::kActionContacts) != 0u;
   panned_ = in.panned();
   c.camera_x = panned_ ? *in.camera_x : static_cast<float>(own->x);
   c.camera_y = panned_ ? *in.camera_y : static_cast<float>(own->y);
@@ -127,6 +145,8 @@ std::optional<protocol::Command> Gateway::make_command(TimePoint now, const std:
 void Gateway::expire_windows(TimePoint now) const {
   while (!latency_window_.empty() && now - latency_window_.front().first > kWindow) latency_window_.pop_front();
   while (!bytes_window_.empty() && now - bytes_window_.front().first > kWindow) bytes_window_.pop_front();
+  while (!contacts_bytes_window_.empty() && now - contacts_bytes_window_.front().first > kWindow)
+    contacts_bytes_window_.pop_front();
 }
 
 std::optional<double> Gateway::latency_ms(TimePoint now) const {
@@ -148,6 +168,25 @@ double Gateway::kbit_per_s(TimePoint now) const {
   // Over the last second, or since the first snapshot when that is shorter (but at least 0.2 s).
   const double span = std::clamp(std::chrono::duration<double>(now - *first_snapshot_).count(), 0.2, 1.0);
   return static_cast<double>(bytes) * 8.0 / 1000.0 / span;
+}
+
+double Gateway::contacts_kbit_per_s(TimePoint now) const {
+  expire_windows(now);
+  std::size_t bytes = 0;
+  for (const auto& [t, b] : contacts_bytes_window_) bytes += b;
+  return static_cast<double>(bytes) * 8.0 / 1000.0;
+}
+
+std::string contacts_json(const protocol::ContactPairs& c) {
+  fmt::memory_buffer b;
+  auto out = std::back_inserter(b);
+  fmt::format_to(out, R"({{"tick":{},"near":{},"camera":[{:.3f},{:.3f}],"radius":{:.3f},"pairs":[)", c.tick, c.pairs_near,
+                 c.camera_x, c.camera_y, c.radius_m);
+  for (std::size_t i = 0; i < c.a.size(); ++i)
+    fmt::format_to(out, "{}{},{},{:.5f},{:.1f},{:.1f}", i ? "," : "", c.a[i], c.b[i], protocol::dequantize_share(c.share_a[i]),
+                   protocol::dequantize_contact_m(c.depth[i]) * 1000.0, protocol::dequantize_contact_m(c.push[i]) * 1000.0);
+  fmt::format_to(out, "]}}");
+  return fmt::to_string(b);
 }
 
 std::string Gateway::frame_json(TimePoint now, const FrameExtras& extras) const {
@@ -183,7 +222,10 @@ std::string Gateway::frame_json(TimePoint now, const FrameExtras& extras) const 
     fmt::format_to(out, R"({}"{}":{})", i ? "," : "", view::to_string(static_cast<InputError>(i)), extras.input_errors[i]);
     total += extras.input_errors[i];
   }
-  fmt::format_to(out, R"(}},"input_errors_total":{}}})", total);
+  const std::uint64_t newest = world_.newest_tick().value_or(0);
+  const bool show_contacts = contacts_requested_ && contacts_ && contacts_->tick + kContactsMaxAgeTicks >= newest;
+  fmt::format_to(out, R"(}},"input_errors_total":{},"contacts_kbps":{:.1f},"contacts":{}}})", total,
+                 contacts_kbit_per_s(now), show_contacts ? contacts_json(*contacts_) : std::string("null"));
   return fmt::to_string(b);
 }
 

@@ -56,6 +56,20 @@ std::variant<LogCommand, InputError> parse_log_message(std::string_view text) {
     if (id->is_number_unsigned() && id->get<std::uint64_t>() > 0xFFFFFFFFull) return InputError::out_of_range;
     c.kind = LogCommand::Kind::focus;
     c.id = id->is_number_unsigned() ? static_cast<std::uint32_t>(id->get<std::uint64_t>()) : 0u;
+  } else if (t == "contacts") {
+    const auto on = j.find("on");
+    if (on == j.end() || !on->is_boolean()) return InputError::bad_type;
+    c.kind = LogCommand::Kind::contacts;
+    c.on = on->get<bool>();
+    if (c.on) {
+      auto x = required_number(j, "camera_x");
+      if (auto* e = std::get_if<InputError>(&x)) return *e;
+      auto y = required_number(j, "camera_y");
+      if (auto* e = std::get_if<InputError>(&y)) return *e;
+      c.camera_x = std::get<double>(x);
+      c.camera_y = std::get<double>(y);
+      if (std::abs(c.camera_x) > kMaxCameraM || std::abs(c.camera_y) > kMaxCameraM) return InputError::out_of_range;
+    }
   } else {
     return InputError::unknown_type;
   }
@@ -106,6 +120,7 @@ void LogController::apply(const LogCommand& c, TimePoint now) {
       if (std::isfinite(c.speed)) speed_ = std::clamp(c.speed, kMinSpeed, kMaxSpeed);
       break;
     case LogCommand::Kind::focus:
+    case LogCommand::Kind::contacts:
       break;
     case LogCommand::Kind::seek: {
       const std::uint64_t t = clamp_tick(c.tick);

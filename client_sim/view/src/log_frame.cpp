@@ -9,13 +9,12 @@
 #include <fmt/format.h>
 
 #include "throng/params/object_params.h"
+#include "throng/view/gateway.h"
 #include "throng/world/world.h"
 
 namespace throng::view {
 
 namespace {
-
-constexpr double kStill2 = 1e-4;  // (1 cm/s)^2: slower than this keeps the previous facing
 
 struct Body {
   std::uint32_t id;
@@ -43,8 +42,17 @@ void focus_json(fmt::memory_buffer& b, const World& w, std::uint32_t focus) {
 
 }  // namespace
 
+const protocol::ContactPairs& LogFrameBuilder::contacts(const match::Match& match, double camera_x, double camera_y) {
+  const match::ContactsConfig config{};
+  selector_.prepare(match.world());
+  selector_.select(camera_x, camera_y, config.radius_m, config.max_pairs, contacts_);
+  contacts_.tick = match.tick_index();
+  return contacts_;
+}
+
 std::string LogFrameBuilder::frame_json(const match::Match& match, const std::string& timeline_fields, std::uint32_t focus,
-                                        std::size_t pages, std::uint64_t input_errors_total) {
+                                        std::size_t pages, std::uint64_t input_errors_total,
+                                        const std::optional<ContactsView>& contacts_view) {
   const World& w = match.world();
   const auto xs = w.pos_x();
   const auto ys = w.pos_y();
@@ -62,9 +70,7 @@ std::string LogFrameBuilder::frame_json(const match::Match& match, const std::st
                  match.tick_index(), match.tick_index());
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     const Body& o = bodies[i];
-    const Vec3 v = w.velocity(ObjectId{o.id});
-    float& yaw = yaw_[o.id];  // 0 the first time
-    if (v.x * v.x + v.y * v.y > kStill2) yaw = static_cast<float>(std::atan2(v.y, v.x));
+    const float yaw = match.facing_rad(ObjectId{o.id}).value_or(0.0f);
     fmt::format_to(out, "{}{},{:.3f},{:.3f},{:.2f}", i ? "," : "", o.id, o.x, o.y, yaw);
   }
   fmt::format_to(out, R"(],"in_view":{},"tracked":{},"latency_ms":null,"kbps":0,"clients":{},"camera":null,"pages":{},)",
@@ -72,6 +78,9 @@ std::string LogFrameBuilder::frame_json(const match::Match& match, const std::st
   fmt::format_to(out, R"("ended":{},"input_errors_total":{},"focus":)",
                  match.match_info().state == protocol::MatchState::ended, input_errors_total);
   focus_json(b, w, focus);
+  fmt::format_to(out, R"(,"contacts":{})",
+                 contacts_view ? contacts_json(contacts(match, contacts_view->camera_x, contacts_view->camera_y))
+                               : std::string("null"));
   fmt::format_to(out, R"(,"replay":{{{}}}}})", timeline_fields);
   return fmt::to_string(b);
 }

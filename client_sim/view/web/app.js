@@ -4,12 +4,17 @@
 // Replay mode (match.mode === "replay", throng-view --log): frames carry every body and a
 // "replay" timeline; "timeline" messages update it alone (e.g. a seek starting). The page sends
 // play/pause/toggle/speed/seek/focus instead of input, and no keyboard ever moves anything.
+// Collision overlay (C): collision shapes, and for each contact pair the server (live) or the
+// re-simulation (replay) reports near the camera, the contact plane at the push-ratio point (the
+// patent's virtual plane VP1) with the ratio as text. Live, the request rides on every input as
+// the contacts action bit; in a replay the page sends {"type":"contacts", on, camera_x/y}.
 // World coordinates: metres, x right, y up; the canvas flips y.
 'use strict';
 (() => {
   const FACTION_COLORS = ['#9aa0a6', '#e4572e', '#2e86de', '#f2c14e', '#4caf50', '#a05195', '#17becf', '#c49c94'];
   const BACKGROUND = '#1b1f24';
-  const ACTION_SPRINT = 1, ACTION_BRACE = 2;  // protocol kAction* bits
+  const ACTION_SPRINT = 1, ACTION_BRACE = 2, ACTION_CONTACTS = 4;  // protocol kAction* bits
+  const PLANE_COLOR = '#ff4081';
   const MOVE_KEYS = {
     KeyW: [0, 1], ArrowUp: [0, 1], KeyS: [0, -1], ArrowDown: [0, -1],
     KeyA: [-1, 0], ArrowLeft: [-1, 0], KeyD: [1, 0], ArrowRight: [1, 0],
@@ -25,6 +30,7 @@
     keys: new Set(), facing: 0, mouse: null, aimWithMouse: false, drag: null,
     drawn: 0, drawnObjects: 0, frameAt: 0, sent: 0, errors: 0, lastError: null,
     replay: null, followId: 0, scrubbing: false, lastSeekSent: 0, fitted: false,
+    contactsDrawn: [], contactsSent: null,
   };
   const isReplay = () => !!(view.match && view.match.mode === 'replay');
 
@@ -93,7 +99,8 @@
     const shift = view.keys.has('ShiftLeft') || view.keys.has('ShiftRight');
     const msg = {
       type: 'input', move_x: mx, move_y: my, facing: view.facing,
-      actions: (shift ? ACTION_SPRINT : 0) | (view.keys.has('Space') ? ACTION_BRACE : 0),
+      actions: (shift ? ACTION_SPRINT : 0) | (view.keys.has('Space') ? ACTION_BRACE : 0) |
+        (view.showShapes ? ACTION_CONTACTS : 0),
     };
     if (view.panned) { msg.camera_x = view.center.x; msg.camera_y = view.center.y; }
     return msg;
@@ -115,7 +122,7 @@
   addEventListener('keydown', (e) => {
     if (e.ctrlKey || e.metaKey || e.altKey) return;
     if (isReplay()) { replayKey(e); return; }
-    if (e.code === 'KeyC' && !e.repeat) { view.showShapes = !view.showShapes; $('shapes').checked = view.showShapes; }
+    if (e.code === 'KeyC' && !e.repeat) setShapes(!view.showShapes);
     if (e.code === 'KeyF') follow();
     if (MOVE_KEYS[e.code] || e.code === 'Space') e.preventDefault();
     if (!view.keys.has(e.code)) { view.keys.add(e.code); sendInput(); }
@@ -124,9 +131,33 @@
   addEventListener('blur', () => { view.keys.clear(); sendInput(); });  // no stuck keys
   setInterval(sendInput, 50);  // the gateway stops the character when input goes quiet
 
-  $('shapes').addEventListener('change', (e) => { view.showShapes = e.target.checked; });
+  $('shapes').addEventListener('change', (e) => { setShapes(e.target.checked); canvas.focus(); });
+  function setShapes(on) {
+    view.showShapes = on;
+    $('shapes').checked = on;
+    if (isReplay()) sendReplayContacts(true);
+    else sendInput();  // the contacts bit goes out at once
+  }
+  // Replay: the viewer picks the pairs around our camera; tell it when the overlay or the camera
+  // changes (at most every 200 ms while panning/following).
+  function sendReplayContacts(force) {
+    if (!isReplay()) return;
+    const now = performance.now();
+    const on = view.showShapes;
+    const last = view.contactsSent;
+    const cam = { x: view.center.x, y: view.center.y };
+    if (!force) {
+      if (!on || (last && last.on && Math.hypot(cam.x - last.x, cam.y - last.y) < 1.0) || (last && now - last.at < 200)) return;
+    }
+    const msg = on ? { type: 'contacts', on: true, camera_x: cam.x, camera_y: cam.y } : { type: 'contacts', on: false };
+    if (send(msg)) view.contactsSent = { on, x: cam.x, y: cam.y, at: now };
+  }
   $('follow').addEventListener('click', follow);
-  function follow() { view.panned = false; }
+  function follow() {  // recentre at once (not only at the next animation frame: a drag may come first)
+    view.panned = false;
+    const s = selfPose();
+    if (s) { view.center.x = s.x; view.center.y = s.y; }
+  }
 
   // --- replay: timeline, play/pause, speed, seek, follow a character -------------------------
   function mmss(ticks, hz) {
@@ -164,7 +195,7 @@
     const t = view.replay;
     if (e.target && e.target.tagName === 'SELECT') return;
     if (e.code === 'Space') { e.preventDefault(); if (!e.repeat) send({ type: 'toggle' }); }
-    else if (e.code === 'KeyC' && !e.repeat) { view.showShapes = !view.showShapes; $('shapes').checked = view.showShapes; }
+    else if (e.code === 'KeyC' && !e.repeat) setShapes(!view.showShapes);
     else if (e.code === 'Escape') setFollow(0);
     else if (t && (e.code === 'ArrowLeft' || e.code === 'ArrowRight')) {
       e.preventDefault();
@@ -334,6 +365,80 @@
     return list;
   }
 
+  // Contact planes: for each pair, the line perpendicular to a->b at the point that divides the
+  // pair's overlap (or gap) by its push ratio, t = r_a - share_a * (r_a + r_b - d) from a's centre
+  // (VP1 of the patent: a was pushed share_a of the depth, b the rest), and the ratio as a/b in %.
+  function contactPairs(f) {
+    const c = f && f.contacts;
+    if (!c || !Array.isArray(c.pairs)) return [];
+    const out = [];
+    for (let i = 0; i + 4 < c.pairs.length; i += 5)
+      out.push({ a: c.pairs[i], b: c.pairs[i + 1], share: c.pairs[i + 2], depth_mm: c.pairs[i + 3], push_mm: c.pairs[i + 4] });
+    return out;
+  }
+
+  function ratioText(share) {
+    const pa = Math.round(share * 100);
+    return `${pa}/${100 - pa}`;
+  }
+
+  function drawContacts(f, list, px) {
+    const drawn = [];
+    const pairs = contactPairs(f);
+    if (!pairs.length) return drawn;
+    const byId = new Map(list.map((c) => [c.id, c]));
+    const labels = [];
+    for (const p of pairs) {
+      const a = byId.get(p.a), b = byId.get(p.b);
+      if (!a || !b) continue;  // not drawn here (outside what the page has)
+      const dx = b.x - a.x, dy = b.y - a.y, d = Math.hypot(dx, dy);
+      if (!(d > 1e-6)) continue;
+      const nx = dx / d, ny = dy / d;
+      const t = a.r - p.share * (a.r + b.r - d);
+      const x = a.x + nx * t, y = a.y + ny * t;
+      const half = Math.min(a.r, b.r) * 1.1;
+      ctx.beginPath();
+      ctx.moveTo(a.x, a.y);
+      ctx.lineTo(b.x, b.y);
+      ctx.lineWidth = 1 * px;
+      ctx.strokeStyle = 'rgba(255, 64, 129, 0.45)';
+      ctx.stroke();
+      ctx.beginPath();
+      ctx.moveTo(x - ny * half, y + nx * half);
+      ctx.lineTo(x + ny * half, y - nx * half);
+      ctx.lineWidth = 2.5 * px;
+      ctx.strokeStyle = PLANE_COLOR;
+      ctx.stroke();
+      drawn.push({ a: p.a, b: p.b, share: p.share, x, y });
+      labels.push({ x, y, text: ratioText(p.share) });
+    }
+    // Ratios as text in screen space, when there is room for them: nearest the camera first (the
+    // order the pairs come in), skipping a label that would overlap one already written.
+    if (view.zoom >= 24) {
+      ctx.save();
+      ctx.setTransform(1, 0, 0, 1, 0, 0);
+      const dpr = window.devicePixelRatio || 1;
+      ctx.font = `${Math.round(11 * dpr)}px system-ui, sans-serif`;
+      ctx.textAlign = 'center';
+      ctx.textBaseline = 'middle';
+      const placed = [];
+      const w = 34 * dpr, h = 14 * dpr;
+      for (const l of labels) {
+        const sx = (canvas.clientWidth / 2 + (l.x - view.center.x) * view.zoom) * dpr;
+        const sy = (canvas.clientHeight / 2 - (l.y - view.center.y) * view.zoom) * dpr;
+        if (placed.some((q) => Math.abs(q.x - sx) < w && Math.abs(q.y - sy) < h)) continue;
+        placed.push({ x: sx, y: sy });
+        ctx.lineWidth = 3 * dpr;
+        ctx.strokeStyle = 'rgba(0, 0, 0, 0.75)';
+        ctx.strokeText(l.text, sx, sy);
+        ctx.fillStyle = '#ffffff';
+        ctx.fillText(l.text, sx, sy);
+      }
+      ctx.restore();
+    }
+    return drawn;
+  }
+
   function hovered(list, at) {
     const p = at || view.mouse;
     if (!p) return null;
@@ -352,14 +457,23 @@
     const i = c.info;
     const you = !isReplay() && c.id === view.frame.entity;  // the roster is from match start: it says npc for taken-over bodies
     const p = isReplay() && view.frame.focus && view.frame.focus.id === c.id ? view.frame.focus : null;
+    // Its current contact pairs and ratios (what this character moved / what the other moved).
+    let ratios = '';
+    if (view.showShapes) {
+      const mine = contactPairs(view.frame).filter((q) => q.a === c.id || q.b === c.id);
+      ratios = mine.length ? '\n' + mine.map((q) => {
+        const other = q.a === c.id ? q.b : q.a;
+        const share = q.a === c.id ? q.share : 1 - q.share;
+        return `vs #${other}: ${ratioText(share)} (moved ${(share * q.push_mm).toFixed(1)} of the pair's ${q.push_mm.toFixed(1)} mm)`;
+      }).join('\n') : (view.frame.contacts ? '\nno contact pair near the camera' : '\ncontacts: none from the server');
+    }
     tip.textContent = `#${c.id}${you ? ' (you)' : ''}${isReplay() && c.id === view.followId ? ' (followed)' : ''}\n` +
       (i ? `${i.archetype} · ${you ? 'player' : i.type} · faction ${i.faction}\nradius ${i.radius.toFixed(2)} m · half height ${i.halfHeight.toFixed(2)} m\n`
          : 'not in the roster\n') +
       `at (${c.x.toFixed(2)}, ${c.y.toFixed(2)}) facing ${(c.yaw * 180 / Math.PI).toFixed(0)}°\n` +
       (p ? `weight ${p.weight_kg} kg · importance ${p.importance} · equipment ${p.equipment_level}\n` +
            `softness ${p.softness} · speed ${p.speed_mps} m/s · hp ${p.hp} · group ${p.group_id}`
-         : (isReplay() ? 'click to follow (and see its parameters)' : '')) +
-      (isReplay() ? '' : 'push ratios: per pair, computed on the server only');
+         : (isReplay() ? 'click to follow (and see its parameters)' : '')) + ratios;
     tip.style.left = `${view.mouse.x + 14}px`;
     tip.style.top = `${view.mouse.y + 14}px`;
     tip.hidden = false;
@@ -398,6 +512,8 @@
         ctx.setLineDash([]);
       }
     }
+    view.contactsDrawn = f && view.showShapes ? drawContacts(f, list, px) : [];
+    if (view.showShapes) sendReplayContacts(false);
     view.drawn = list.length;
     view.lastList = list;
     view.drawnObjects = f ? f.objects.length / 4 : 0;
@@ -423,6 +539,13 @@
     status.className = text.startsWith('live') || text.startsWith('replay') ? '' : 'bad';
     if (!f) return;
     $('s-tick').textContent = f.tick;
+    $('contacts-row').hidden = !view.showShapes;
+    if (view.showShapes) {
+      const c = f.contacts;
+      $('s-contacts').textContent = c
+        ? `${contactPairs(f).length} pairs (${c.near} near)` + (isReplay() ? '' : ` · ${(f.contacts_kbps || 0).toFixed(1)} kbit/s`)
+        : 'waiting…';
+    }
     if (isReplay()) {
       $('s-objects').textContent = `${view.drawn} drawn (log: ${f.in_view})`;
       $('s-self').textContent = view.followId ? `following #${view.followId}` : 'free camera';
@@ -444,7 +567,7 @@
       return {
         connected: view.connected, match: !!view.match, frames: view.frames,
         drawn: view.drawn, objects: view.drawnObjects,
-        tick: f ? f.tick : null, entity: f ? f.entity : null, self: f ? f.self : null,
+        tick: f ? f.tick : null, entity: f ? f.entity : null, self: f ? f.self : null, client_id: f ? f.client_id : null,
         in_view: f ? f.in_view : null, latency_ms: f ? f.latency_ms : null, kbps: f ? f.kbps : null,
         sent: view.sent, errors: view.errors, last_error: view.lastError, panned: view.panned,
         camera: f ? f.camera : null, zoom: view.zoom, show_shapes: view.showShapes,
@@ -452,7 +575,24 @@
         mode: view.match ? (view.match.mode || 'live') : null, replay: view.replay, follow: view.followId,
         status: $('status').textContent, timeline: $('timeline').hidden ? null : $('t-label').textContent,
         focus: f ? (f.focus || null) : null,
+        contacts: f && f.contacts ? { tick: f.contacts.tick, near: f.contacts.near, pairs: contactPairs(f).length,
+                                      camera: f.contacts.camera, radius: f.contacts.radius } : null,
+        contacts_kbps: f ? (f.contacts_kbps || 0) : null, contacts_drawn: view.contactsDrawn.length,
       };
+    },
+    // The contact pairs of the newest frame: {a, b, share} (share = the fraction a moved), and
+    // which of them the last draw placed a plane for.
+    contacts() {
+      const drawn = new Set(view.contactsDrawn.map((d) => `${d.a}:${d.b}`));
+      return contactPairs(view.frame).map((p) => ({ a: p.a, b: p.b, share: p.share, drawn: drawn.has(`${p.a}:${p.b}`) }));
+    },
+    // Canvas pixels painted in the contact-plane colour.
+    planePixels() {
+      const c = [1, 3, 5].map((k) => parseInt(PLANE_COLOR.substr(k, 2), 16));
+      const d = ctx.getImageData(0, 0, canvas.width, canvas.height).data;
+      let n = 0;
+      for (let i = 0; i < d.length; i += 4) if (d[i] === c[0] && d[i + 1] === c[1] && d[i + 2] === c[2]) n++;
+      return n;
     },
     // Where a body of the newest frame is on the page, in CSS pixels (for clicking it).
     screenOf(id) {

@@ -13,6 +13,9 @@
 //    whose last_applied_sequence >= s (median over the last second). Bandwidth: snapshot payload
 //    bytes received over the last second.
 //  - JSON for the page: match_json() once per MatchInfo, frame_json() per applied snapshot.
+//  - Contacts overlay: while the page's input carries protocol::kActionContacts the commands do
+//    too, and the server (if it grants the channel) sends this client ContactPairs; frames carry
+//    the newest valid ones (contacts_json) while the page still asks, null otherwise.
 //
 // Not thread-safe: the owner (the gateway loop) serializes every call; DDS callbacks and the web
 // thread only hand data to that loop.
@@ -74,6 +77,8 @@ class Gateway {
   bool match_ended() const { return match_ && match_->ended(); }
   // Returns whether the world applied it (not stale, not malformed, ours).
   bool on_snapshot(const protocol::Snapshot& snapshot, std::size_t wire_bytes, TimePoint now);
+  // Returns whether it was kept as the newest contact pairs (ours, well-formed, not older).
+  bool on_contacts(const protocol::ContactPairs& contacts, std::size_t wire_bytes, TimePoint now);
 
   // The command for this tick, or nullopt before the own entity was seen in a snapshot.
   std::optional<protocol::Command> make_command(TimePoint now, const std::optional<PageInput>& input,
@@ -87,6 +92,9 @@ class Gateway {
   // Measurements (also in every frame).
   std::optional<double> latency_ms(TimePoint now) const;  // median over the last second
   double kbit_per_s(TimePoint now) const;                 // snapshot payload, last second
+  double contacts_kbit_per_s(TimePoint now) const;        // contact-pairs payload, last second
+  std::uint64_t contacts_received() const { return contacts_received_; }
+  std::uint64_t contacts_rejected() const { return contacts_rejected_; }  // malformed or foreign
   std::uint64_t commands_sent() const { return commands_sent_; }
   std::uint64_t snapshots_applied() const { return world_.applied_count(); }
   std::uint32_t last_applied_sequence() const { return last_applied_sequence_; }
@@ -120,6 +128,16 @@ class Gateway {
   mutable std::deque<std::pair<TimePoint, double>> latency_window_;
   mutable std::deque<std::pair<TimePoint, std::size_t>> bytes_window_;
   std::optional<TimePoint> first_snapshot_;
+
+  bool contacts_requested_ = false;  // the last command carried kActionContacts
+  std::optional<protocol::ContactPairs> contacts_;
+  std::uint64_t contacts_received_ = 0, contacts_rejected_ = 0;
+  mutable std::deque<std::pair<TimePoint, std::size_t>> contacts_bytes_window_;
 };
+
+// {"tick":..,"near":..,"camera":[x,y],"radius":..,"pairs":[a, b, share_a, depth_mm, push_mm, ...]}
+// (share_a to 5 decimals, millimetres to 0.1): the page's form of ContactPairs, in live and log
+// frames alike.
+std::string contacts_json(const protocol::ContactPairs& c);
 
 }  // namespace throng::view

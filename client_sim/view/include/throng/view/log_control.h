@@ -11,6 +11,11 @@
 //                                rounded, then clamped to [0, last tick] by the controller
 //   {"type":"focus","id":n}      the character the page follows (0 = none): frames carry its
 //                                parameters; n an integer in [0, 2^32), else out_of_range
+//   {"type":"contacts","on":b,"camera_x":x,"camera_y":y}
+//                                the contacts overlay: b a boolean (else bad_type); while on,
+//                                frames carry the contact pairs nearest (x, y), which are
+//                                required then: finite numbers within +-kMaxCameraM (else
+//                                bad_type / out_of_range)
 // Anything else ("input" included: there is nothing to control in a replay) is unknown_type.
 //
 // Playing advances a fractional position by elapsed * tick_hz * speed. At the last tick playback
@@ -32,10 +37,12 @@ inline constexpr double kMinSpeed = 0.25;
 inline constexpr double kMaxSpeed = 8.0;
 
 struct LogCommand {
-  enum class Kind : std::uint8_t { play, pause, toggle, speed, seek, focus } kind = Kind::play;
+  enum class Kind : std::uint8_t { play, pause, toggle, speed, seek, focus, contacts } kind = Kind::play;
   double speed = 1.0;    // speed
   double tick = 0.0;     // seek: the page's target, not yet clamped
   std::uint32_t id = 0;  // focus (the controller ignores it: the viewer loop keeps it)
+  bool on = false;       // contacts (the viewer loop keeps it, like focus)
+  double camera_x = 0.0, camera_y = 0.0;
 };
 
 std::variant<LogCommand, InputError> parse_log_message(std::string_view text);
