@@ -185,6 +185,8 @@ void MatchServer::Impl::publish_outbox() {
         break;
     }
   }
+  // The contacts debug channel (server/match/src/match_contacts.cpp): granted clients only.
+  for (std::size_t i = 0; i < outbox.contacts_count; ++i) transport.publish_contacts(outbox.contacts[i]);
   for (const auto& r : outbox.join_replies) {
     transport.publish_join_reply(r);
     if (r.result != protocol::JoinResult::accepted && r.result != protocol::JoinResult::left)
@@ -259,6 +261,7 @@ void MatchServer::Impl::run_tick(Clock::time_point woke) {
   metrics.param_updates_applied.inc(report.param_updates_applied);
   metrics.param_updates_rejected.inc(report.param_updates_rejected);
   metrics.push_events.inc(report.push_events);
+  metrics.contacts_refused.inc(report.contacts_refused);
   metrics.snapshot_poses.inc(report.snapshot_poses);
   metrics.view_error_max_m.set(report.view_error_max_m);
   metrics.state_hash_low32.set(static_cast<double>(report.state_hash & 0xFFFF'FFFFu));
@@ -271,6 +274,8 @@ void MatchServer::Impl::run_tick(Clock::time_point woke) {
   raise_to(metrics.snapshot_bytes, c.snapshot_bytes);
   raise_to(metrics.other_samples, c.other_samples);
   raise_to(metrics.other_bytes, c.other_bytes);
+  raise_to(metrics.contacts_samples, c.contacts_samples);
+  raise_to(metrics.contacts_bytes, c.contacts_bytes);
   raise_to(metrics.skipped_ticks, schedule->skipped());
 
   if (stopping) finished = true;

@@ -34,6 +34,9 @@ struct ServerMetrics {
   admin::Counter& other_samples;
   admin::Counter& other_bytes;
   admin::Counter& push_events;
+  admin::Counter& contacts_samples;
+  admin::Counter& contacts_bytes;
+  admin::Counter& contacts_refused;
   admin::Gauge& view_error_max_m;
   admin::Gauge& state_hash_low32;
   admin::Gauge& log_backlog_ticks;
