@@ -15,9 +15,11 @@ void build_pair_schedule(const SolverBodies& bodies, const std::vector<SolverPai
   const std::uint32_t* plane_count = bodies.plane_count.data();
   // Level of each pair, with the fast/slow split in the top bit; counts per level.
   constexpr std::uint32_t kSlow = 0x80000000u;
+  std::uint32_t chunk_base = 0;  // first level of the current chunk
   for (std::size_t k = 0; k < np; ++k) {
     const SolverPair& p = pairs[k];
-    const std::uint32_t lv = std::max(s.next_level[p.a], s.next_level[p.b]);
+    if (k % kScheduleChunkPairs == 0) chunk_base = static_cast<std::uint32_t>(s.fast_count.size());
+    const std::uint32_t lv = std::max({s.next_level[p.a], s.next_level[p.b], chunk_base});
     s.next_level[p.a] = s.next_level[p.b] = lv + 1;
     if (lv == s.fast_count.size()) {
       s.fast_count.push_back(0);
