@@ -106,7 +106,7 @@ SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs,
   // Most crowds touch no scenery at all; skip the per-pair pinned test for them.
   const bool any_planes = !planes.empty();
   // Pairs with an airborne body or a body against scenery (see pair_schedule.h), and every pair
-  // of an unscheduled sweep.
+  // of an unscheduled solve.
   auto project_slow = [&](SolverPair& p) {
     double share = p.share_a;
     if (p.resolved_once != 0 && conflict_limit > 0.0) share = std::clamp(share, conflict_limit, 1.0 - conflict_limit);
@@ -114,26 +114,21 @@ SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs,
     const double pen = project_pair(b, p, share);
     if (pen > 0.0) {
       p.resolved_once = 1;
-      worst = std::max(worst, pen / std::min(b.r[p.a], b.r[p.b]));
+      const double r_min = std::min(b.r[p.a], b.r[p.b]);
+      if (pen > worst * r_min) worst = pen / r_min;  // divide only for a new maximum
     }
   };
   auto project_level = [&](const PairSchedule::Level& lv) {
     worst = std::max(worst, project_fast_range(b, schedule, lv.fast_begin, lv.fast_end));
     for (std::uint32_t k = lv.slow_begin; k < lv.slow_end; ++k) project_slow(pairs[schedule.slow[k]]);
   };
-  // Without a schedule yet (see wants_schedule), the first sweep runs in plain pair order — the
-  // same result — and the schedule is built only if a second sweep is needed.
-  auto ensure_schedule = [&] {
-    if (scheduled) return;
-    build_pair_schedule(bodies, pairs, conflict_limit, schedule);
-    scheduled = true;
-  };
+  const std::size_t nl = schedule.levels.size();
   for (std::uint32_t it = 0; it < iterations; ++it) {
     worst = 0.0;
-    if (it > 0) ensure_schedule();
-    const std::size_t nl = schedule.levels.size();
-    // Pairs of one level share no body, so only the order of the levels matters.
-    if (!scheduled) for (SolverPair& p : pairs) project_slow(p);
+    // Without a schedule (see wants_schedule) the pairs' own order, alternating; with one, the
+    // levels (pairs of one level share no body, so only the order of the levels matters).
+    if (!scheduled && it % 2 == 0) for (SolverPair& p : pairs) project_slow(p);
+    else if (!scheduled) for (std::size_t k = pairs.size(); k > 0; --k) project_slow(pairs[k - 1]);
     else if (it % 2 == 0) for (std::size_t l = 0; l < nl; ++l) project_level(schedule.levels[l]);
     else for (std::size_t l = nl; l > 0; --l) project_level(schedule.levels[l - 1]);
     // Fixed bodies last in every sweep: they always win, and the final state honours them exactly.
@@ -148,6 +143,9 @@ SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs,
   }
   if (scheduled) write_back_pair_schedule(schedule, pairs);
   schedule.last_sweeps = result.iterations_used;
+  schedule.last_pairs = pairs.size();
+  schedule.last_pushing = 0;
+  for (const SolverPair& p : pairs) schedule.last_pushing += p.lambda > 0.0 ? 1 : 0;
   return result;
 }
 

@@ -57,8 +57,10 @@ struct PairSchedule {
 
   std::vector<std::uint32_t> slow;     // other pairs in level order: indices in the caller's list
 
-  // Sweeps the last solve used: a hint for whether the next one is worth a schedule (speed only).
+  // What the last solve saw, a hint for whether the next one is worth a schedule (speed only):
+  // sweeps used, and pairs still pushing apart at its end out of all pairs.
   std::uint32_t last_sweeps = 0;
+  std::size_t last_pushing = 0, last_pairs = 0;
 
   // Scratch.
   std::vector<std::uint32_t> next_level;  // per body: the first level its next pair may take
