@@ -13,6 +13,7 @@
 
 #include "commands.h"
 #include "open_log.h"
+#include "throng/match/match.h"
 #include "throng/matchlog/reader.h"
 #include "throng/matchlog/replay.h"
 #include "throng/world/world.h"
@@ -20,45 +21,18 @@
 namespace throng::replay {
 namespace {
 
-// Facing (yaw, radians) of every body in the world's dense order. The match keeps it outside the
-// World (commands set it for controlled bodies, the NPC AI for the rest) and has no accessor for it
-// yet, so it is read from the match's checkpoint, whose layout is documented
-// (server/match/src/CHECKPOINT.md, version 1): header (magic u32, version u32, scene hash u64,
-// config hash u64, body count u32, tick u64), world section (u32 length + bytes), shutdown u8,
-// info-dirty u8, rejected array<u64>, accepted u64, yaw array<f32> (dense order), ... A Match
-// accessor would make this one call; until then another checkpoint version is a clear error.
+// Facing (yaw, radians) of every body in the world's dense order, as snapshots carry it
+// (Match::facing_rad: a client's from its commands, an NPC's from the AI).
 class Facing {
  public:
   const std::vector<float>& read(const match::Match& m) {
-    m.save_checkpoint(buf_);
-    std::size_t at = 0;
-    auto u32 = [&] {
-      if (at + 4 > buf_.size()) throw std::runtime_error("export: checkpoint too short to hold the facing");
-      std::uint32_t v;
-      std::memcpy(&v, buf_.data() + at, 4);
-      at += 4;
-      return v;
-    };
-    const std::uint32_t magic = u32(), version = u32();
-    if (magic != 0x4B434D54u || version != 1)
-      throw std::runtime_error(fmt::format("export: the facing is read from the match checkpoint, whose layout this build "
-                                           "of export knows only in version 1 (this is version {})", version));
-    at += 8 + 8;                       // scene and config hashes
-    const std::uint32_t bodies = u32();
-    at += 8;                           // tick
-    at += u32();                       // world section
-    at += 2;                           // shutdown, info dirty
-    at += 8 * static_cast<std::size_t>(u32()) + 8;  // rejected by reason, accepted total
-    const std::uint32_t n = u32();
-    if (n != bodies || at + 4 * static_cast<std::size_t>(n) > buf_.size())
-      throw std::runtime_error("export: the checkpoint's facing array does not match its body count");
-    yaw_.resize(n);
-    std::memcpy(yaw_.data(), buf_.data() + at, 4 * static_cast<std::size_t>(n));
+    const World& w = m.world();
+    yaw_.resize(w.body_count());
+    for (std::size_t d = 0; d < yaw_.size(); ++d) yaw_[d] = m.facing_rad(w.id_at(d)).value_or(0.0f);
     return yaw_;
   }
 
  private:
-  std::vector<std::uint8_t> buf_;
   std::vector<float> yaw_;
 };
 
