@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstring>
 #include <map>
 #include <random>
 #include <sstream>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "match_test_util.h"
+#include "matchlog/checkpoint_v1.h"
 #include "throng/match/checkpoint_diff.h"
 #include "throng/match/match.h"
 #include "throng/scene/builtin_scenes.h"
@@ -165,6 +167,123 @@ TEST(MatchCheckpoint, RestoredMatchContinuesBitIdentically) {
   }
 }
 
+// The replay settings of matchlog::ResimOptions (exact_interest = false).
+MatchConfig fast_interest(MatchConfig c) {
+  c.interest.radius_m = 0.01;
+  c.interest.budget_bytes = 128;
+  c.worker_threads = 1;
+  return c;
+}
+
+std::string without_snapshots(const Outbox& out, const TickReport& r) {
+  const std::string s = outbox_text(out, r);
+  return s.substr(0, s.find("snap "));
+}
+
+bool same(std::span<const std::uint8_t> a, std::span<const std::uint8_t> b) { return std::equal(a.begin(), a.end(), b.begin(), b.end()); }
+
+TEST(MatchCheckpoint, WithoutBaselinesRestoresIntoOtherInterestSettings) {
+  // SnapshotBaselines::reset: a checkpoint restores into a match with other interest settings;
+  // every later state hash, reply, client event and match-info republish is the saved match's, and
+  // so is the whole checkpoint but its snapshot section. Each connected client still gets a
+  // snapshot every tick, starting from an empty baseline.
+  const std::vector<std::uint64_t> ks = {0, 16, 61, 125, 200, 335};
+  constexpr std::uint64_t kMore = 150;
+  const MatchConfig config = test::small_config();
+  Match a(small_battle(), config, "a");
+  Outbox out;
+  Driver da;
+  std::vector<std::string> expected;
+  std::vector<std::vector<std::uint32_t>> snapshot_clients;
+  std::map<std::uint64_t, std::pair<Bytes, Driver>> saved;
+  a.save_checkpoint(saved[0].first);
+  saved[0].second = da;
+  while (a.tick_index() < ks.back() + kMore) {
+    const TickReport& r = step(a, da, out);
+    expected.push_back(without_snapshots(out, r));
+    snapshot_clients.emplace_back();
+    for (std::size_t k = 0; k < out.snapshot_count; ++k) snapshot_clients.back().push_back(out.snapshots[k].client_id);
+    if (r.tick % 25 == 0 || std::find(ks.begin(), ks.end(), r.tick) != ks.end()) {
+      Bytes bytes;
+      a.save_checkpoint(bytes);
+      saved[r.tick] = {bytes, da};
+    }
+  }
+  for (const MatchConfig& cfg : {fast_interest(config), config}) {
+    for (std::uint64_t k : ks) {
+      SCOPED_TRACE("checkpoint at tick " + std::to_string(k) + ", interest radius " + std::to_string(cfg.interest.radius_m));
+      Match b(small_battle(), cfg, "b");
+      b.restore_checkpoint(saved[k].first, RestoreOptions{SnapshotBaselines::reset});
+      ASSERT_EQ(b.tick_index(), k);
+      Driver db = saved[k].second;
+      Outbox ob;
+      for (std::uint64_t t = k + 1; t <= k + kMore; ++t) {
+        const TickReport& r = step(b, db, ob);
+        ASSERT_EQ(without_snapshots(ob, r), expected[t - 1]) << "tick " << t;
+        std::vector<std::uint32_t> ids;
+        for (std::size_t i = 0; i < ob.snapshot_count; ++i) ids.push_back(ob.snapshots[i].client_id);
+        ASSERT_EQ(ids, snapshot_clients[t - 1]) << "tick " << t;
+        if (t == k + 1) {
+          // A fresh baseline has nothing to take back, and everything in view is news.
+          for (std::size_t i = 0; i < ob.snapshot_count; ++i) {
+            EXPECT_TRUE(ob.snapshots[i].removed.empty());
+            if (ob.snapshots[i].objects_in_view > 0) {
+              EXPECT_FALSE(ob.snapshots[i].x.empty());
+            }
+          }
+        }
+        if (saved.count(t) != 0) {
+          Bytes mine;
+          b.save_checkpoint(mine);
+          const CheckpointSections x = checkpoint_sections(mine), y = checkpoint_sections(saved[t].first);
+          EXPECT_TRUE(same(x.world, y.world)) << "tick " << t;
+          EXPECT_TRUE(same(x.match_state, y.match_state)) << "tick " << t;
+        }
+      }
+    }
+  }
+}
+
+TEST(MatchCheckpoint, VersionOneStillRestoresIntoTheSameConfig) {
+  // Logs of earlier builds hold version 1 keyframes.
+  const MatchConfig config = test::small_config();
+  Match a(small_battle(), config, "a");
+  Outbox out;
+  Driver d;
+  for (int t = 0; t < 130; ++t) step(a, d, out);
+  Bytes v2;
+  a.save_checkpoint(v2);
+  const Bytes v1 = ::throng::test::as_version_1(v2, config);
+  EXPECT_EQ(checkpoint_sections(v1).version, 1u);
+  EXPECT_TRUE(same(checkpoint_sections(v1).world, checkpoint_sections(v2).world));
+  EXPECT_TRUE(diff_checkpoints(v1, v2).empty());
+
+  Match b(small_battle(), config, "b");
+  b.restore_checkpoint(v1);
+  Bytes again;
+  b.save_checkpoint(again);
+  EXPECT_EQ(again, v2);  // everything came back, snapshot baselines included
+  Driver db = d;
+  Outbox ob;
+  for (int t = 0; t < 40; ++t) {
+    const TickReport& ra = step(a, d, out);
+    const std::string want = outbox_text(out, ra);
+    ASSERT_EQ(outbox_text(ob, step(b, db, ob)), want);
+  }
+
+  // Its config hash covers the interest settings: only the same ones, even without baselines.
+  Match c(small_battle(), config, "c");
+  EXPECT_NO_THROW(c.restore_checkpoint(v1, RestoreOptions{SnapshotBaselines::reset}));
+  Match fast(small_battle(), fast_interest(config), "f");
+  try {
+    fast.restore_checkpoint(v1, RestoreOptions{SnapshotBaselines::reset});
+    ADD_FAILURE() << "a version 1 checkpoint restored into other interest settings";
+  } catch (const CheckpointError& e) {
+    EXPECT_NE(std::string(e.what()).find("version 1 checkpoint includes the interest settings"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(fast.tick_index(), 0u);
+}
+
 TEST(MatchCheckpoint, SaveIsAllocationFreeOnAWarmBufferAndStable) {
   Match a(small_battle(), test::small_config(), "a");
   Outbox out;
@@ -190,11 +309,11 @@ class MatchCheckpointErrors : public ::testing::Test {
     target.save_checkpoint(before);
   }
   // Restoring `bytes` into target throws a CheckpointError mentioning `needle`; target unchanged.
-  void expect_error(Match& m, const Bytes& bytes, const std::string& needle) {
+  void expect_error(Match& m, const Bytes& bytes, const std::string& needle, RestoreOptions options = {}) {
     Bytes was;
     m.save_checkpoint(was);
     try {
-      m.restore_checkpoint(bytes);
+      m.restore_checkpoint(bytes, options);
       ADD_FAILURE() << "no error, expected one about " << needle;
     } catch (const CheckpointError& e) {
       EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
@@ -223,13 +342,16 @@ TEST_F(MatchCheckpointErrors, WrongMagicVersionAndTrailingBytes) {
   bad[1] ^= 0x40;
   expect_error(target, bad, "magic");
   bad = saved;
-  bad[4] = 2;
-  expect_error(target, bad, "version");
+  bad[4] = 3;
+  expect_error(target, bad, "version 3, this build reads versions 1 to 2");
+  bad = saved;
+  bad[4] = 0;
+  expect_error(target, bad, "version 0");
   bad = saved;
   bad.push_back(1);
   expect_error(target, bad, "bytes after");
   bad = saved;
-  bad[40] ^= 0xFF;  // first byte of the world section's magic (after the 36-byte header and its length)
+  bad[48] ^= 0xFF;  // first byte of the world section's magic (after the 44-byte header and its length)
   expect_error(target, bad, "world state");
 }
 
@@ -250,7 +372,7 @@ TEST_F(MatchCheckpointErrors, CorruptedBytesFailCleanly) {
   }
   // Counts claiming far more entries than the bytes hold fail as truncation.
   Bytes bad = saved;
-  for (std::size_t k = 0; k < 4; ++k) bad[24 + k] = 0xFF;  // body count
+  for (std::size_t k = 0; k < 4; ++k) bad[32 + k] = 0xFF;  // body count
   expect_error(target, bad, "bodies");
 }
 
@@ -262,7 +384,21 @@ TEST_F(MatchCheckpointErrors, OtherSceneOrConfig) {
   MatchConfig cfg = test::small_config();
   cfg.interest.radius_m = 20.0;
   Match other_config(small_battle(), cfg, "c");
-  expect_error(other_config, saved, "another config");
+  expect_error(other_config, saved, "another config: interest settings hash");
+  cfg = test::small_config();
+  cfg.npc_speed_mps = 1.5;
+  Match other_speed(small_battle(), cfg, "n");
+  expect_error(other_speed, saved, "another config: config hash");
+  // Without the snapshot baselines, other interest settings are fine; other results-changing
+  // settings are not.
+  cfg = test::small_config();
+  cfg.interest.radius_m = 20.0;
+  Match other_interest(small_battle(), cfg, "i");
+  EXPECT_NO_THROW(other_interest.restore_checkpoint(saved, RestoreOptions{SnapshotBaselines::reset}));
+  EXPECT_EQ(other_interest.state_hash(), source.state_hash());
+  expect_error(other_speed, saved, "another config: config hash", RestoreOptions{SnapshotBaselines::reset});
+  // A truncated snapshot section is an error even when it is not read (the sections are framed).
+  expect_error(target, Bytes(saved.begin(), saved.end() - 1), "truncated", RestoreOptions{SnapshotBaselines::reset});
   // worker_threads does not change results: allowed.
   cfg = test::small_config();
   cfg.worker_threads = 1;

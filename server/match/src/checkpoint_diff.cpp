@@ -3,18 +3,18 @@
 
 #include <string>
 
+#include "throng/match/match.h"
+
 namespace throng::match {
 namespace {
 
-// The world section of a match checkpoint (header layout: CHECKPOINT.md).
+// The world section of a match checkpoint (any version this build reads).
 std::span<const std::uint8_t> world_section(std::span<const std::uint8_t> bytes, const char* which) {
-  ByteReader r(bytes);
-  if (r.get<std::uint32_t>("magic") != 0x4B434D54u) r.fail(std::string(which) + " is not a match checkpoint");
-  const auto version = r.get<std::uint32_t>("version");
-  if (version != 1) r.fail(std::string(which) + ": checkpoint version " + std::to_string(version) + ", expected 1");
-  r.take(8 + 8 + 4 + 8, "header");
-  const auto len = r.get<std::uint32_t>("world section length");
-  return {r.take(len, "world section"), len};
+  try {
+    return checkpoint_sections(bytes).world;
+  } catch (const CheckpointError& e) {
+    throw CheckpointError(std::string(which) + ": " + e.what());
+  }
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 // Match checkpoints: the whole simulation state of a match (layout: CHECKPOINT.md next to this
 // file). Restoring one into a Match built from the same scene and config makes tick() continue
-// bit-identically (state hashes, outbox, snapshot bytes).
+// bit-identically (state hashes, outbox, snapshot bytes). Restoring with SnapshotBaselines::reset
+// skips the snapshot section and the interest settings' hash: world, AI, clients and state hashes
+// continue bit-identically; snapshots start from empty baselines under this match's settings.
 //
 // Saved (match section): shutdown flag and the pending match-info republish, reject counters and
 // the accepted total, per body (dense order) the yaw and the controlling client, the match info's
@@ -30,7 +32,10 @@ namespace throng::match {
 namespace {
 
 constexpr std::uint32_t kMagic = 0x4B434D54;  // "TMCK" in the file
-constexpr std::uint32_t kVersion = 1;
+// 2: the interest settings hashed apart from the rest of the config, and the match and snapshot
+// sections length-prefixed (a reader can skip the baselines). 1: still restored (same config only).
+constexpr std::uint32_t kVersion = 2;
+constexpr std::uint32_t kOldestVersion = 1;
 constexpr std::size_t kMaxClientsEver = 1u << 24;
 
 template <class T>
@@ -102,13 +107,80 @@ ClientRecord get_client(ByteReader& r) {
   return c;
 }
 
+constexpr std::uint64_t kFnvBasis = 14695981039346656037ull;
+
+// The config as checkpoints check it. sim: every field that changes the simulation state (not
+// worker_threads: results do not depend on it, by design; not the interest settings: they shape
+// snapshot content only). interest: the interest settings. v1: version 1's single hash (sim, then
+// the interest fields mixed into the same stream).
+struct ConfigHashes {
+  std::uint64_t sim = 0, interest = 0, v1 = 0;
+};
+
+ConfigHashes config_hashes(const MatchConfig& config) {
+  std::uint64_t c = kFnvBasis;
+  c = mix(c, config.tick_hz); c = mix(c, config.max_clients); c = mix(c, config.client_timeout_s);
+  c = mix(c, config.max_commands_per_tick); c = mix(c, config.player_speed_mps); c = mix(c, config.npc_speed_mps);
+  c = mix(c, config.camera_limit_m); c = mix(c, config.seed);
+  const auto mix_interest = [](std::uint64_t h, const InterestConfig& in) {
+    h = mix(h, in.radius_m); h = mix(h, in.exit_hysteresis); h = mix(h, in.budget_bytes);
+    h = mix(h, in.keepalive_ticks); h = mix(h, in.removed_repeat);
+    return h;
+  };
+  return ConfigHashes{c, mix_interest(kFnvBasis, config.interest), mix_interest(c, config.interest)};
+}
+
+// The header and section boundaries (versions 1 and 2), read without decoding the sections.
+struct Layout {
+  std::uint32_t version = 0;
+  std::uint64_t scene_hash = 0, config_hash = 0, interest_hash = 0;  // version 1: config_hash = ConfigHashes::v1
+  std::uint32_t bodies = 0;
+  std::uint64_t tick = 0;
+  std::span<const std::uint8_t> world, match, snapshots;  // version 1: match runs to the end, snapshots empty
+};
+
+Layout read_layout(ByteReader& r) {
+  Layout l;
+  const auto magic = r.get<std::uint32_t>("magic");
+  if (magic != kMagic) r.fail("not a match checkpoint (magic " + hex(magic) + ", expected " + hex(kMagic) + ")");
+  l.version = r.get<std::uint32_t>("version");
+  if (l.version < kOldestVersion || l.version > kVersion) {
+    r.fail("checkpoint version " + std::to_string(l.version) + ", this build reads versions " +
+           std::to_string(kOldestVersion) + " to " + std::to_string(kVersion));
+  }
+  l.scene_hash = r.get<std::uint64_t>("scene hash");
+  l.config_hash = r.get<std::uint64_t>("config hash");
+  if (l.version >= 2) l.interest_hash = r.get<std::uint64_t>("interest settings hash");
+  l.bodies = r.get<std::uint32_t>("body count");
+  l.tick = r.get<std::uint64_t>("tick");
+  const auto section = [&r](const char* what) {
+    const std::uint32_t len = r.get<std::uint32_t>(what);
+    return std::span<const std::uint8_t>(r.take(len, what), len);
+  };
+  l.world = section("world section");
+  if (l.version >= 2) {
+    l.match = section("match section");
+    l.snapshots = section("snapshot section");
+    if (r.remaining() != 0) r.fail(std::to_string(r.remaining()) + " bytes after the end of the checkpoint");
+  } else {
+    l.match = std::span<const std::uint8_t>(r.take(r.remaining(), "match section"), r.remaining());
+  }
+  return l;
+}
+
 }  // namespace
+
+CheckpointSections checkpoint_sections(std::span<const std::uint8_t> bytes) {
+  ByteReader r(bytes);
+  const Layout l = read_layout(r);
+  return CheckpointSections{l.version, l.tick, l.world, l.match, l.snapshots};
+}
 
 void Match::Impl::compute_checkpoint_hashes() {
   // Scene: the table and initial policy (as MatchInfo hashes them), the scene name, the scenery
   // count and the world's state hash at construction, which covers every body's id, spawn pose,
   // size and initial push coefficients.
-  std::uint64_t h = 14695981039346656037ull;
+  std::uint64_t h = kFnvBasis;
   h = mix(h, info.param_table_hash);
   h = mix(h, info.push_policy_hash);
   h = fnv1a64(scene.name, h);
@@ -116,15 +188,8 @@ void Match::Impl::compute_checkpoint_hashes() {
   h = mix(h, static_cast<std::uint64_t>(world().body_count()));
   h = mix(h, world().state_hash());
   scene_hash = h;
-  // Config: every field that changes results (worker_threads does not, by design).
-  std::uint64_t c = 14695981039346656037ull;
-  c = mix(c, config.tick_hz); c = mix(c, config.max_clients); c = mix(c, config.client_timeout_s);
-  c = mix(c, config.max_commands_per_tick); c = mix(c, config.player_speed_mps); c = mix(c, config.npc_speed_mps);
-  c = mix(c, config.camera_limit_m); c = mix(c, config.seed);
-  const InterestConfig& in = config.interest;
-  c = mix(c, in.radius_m); c = mix(c, in.exit_hysteresis); c = mix(c, in.budget_bytes);
-  c = mix(c, in.keepalive_ticks); c = mix(c, in.removed_repeat);
-  config_hash = c;
+  // Config: every field that changes the simulation state (config_hashes above).
+  config_hash = config_hashes(config).sim;
 }
 
 void Match::Impl::save_checkpoint(std::vector<std::uint8_t>& out) const {
@@ -133,14 +198,19 @@ void Match::Impl::save_checkpoint(std::vector<std::uint8_t>& out) const {
   w.put(kVersion);
   w.put(scene_hash);
   w.put(config_hash);
+  w.put(config_hashes(config).interest);
   w.put(static_cast<std::uint32_t>(world().body_count()));
   w.put(ticks);
-  // World section, length-prefixed so a reader can skip it or hand it to diff_world_states.
-  const std::size_t len_at = w.size();
+  // Three length-prefixed sections, so a reader can skip one or hand the world to
+  // diff_world_states: the world, the match state, the snapshot baselines.
+  std::size_t len_at = w.size();
+  const auto close_section = [&w, &len_at] { w.patch_u32(len_at, static_cast<std::uint32_t>(w.size() - len_at - 4)); };
   w.put(std::uint32_t{0});
   world().save_state(w);
-  w.patch_u32(len_at, static_cast<std::uint32_t>(w.size() - len_at - 4));
+  close_section();
 
+  len_at = w.size();
+  w.put(std::uint32_t{0});
   w.put(static_cast<std::uint8_t>(shutting_down));
   w.put(static_cast<std::uint8_t>(info_dirty));
   w.put_array(std::span<const std::uint64_t>(rejected));
@@ -158,37 +228,47 @@ void Match::Impl::save_checkpoint(std::vector<std::uint8_t>& out) const {
   w.put(static_cast<std::uint32_t>(records.size()));
   for (const ClientRecord& c : records) put_client(w, c);
   ai.save_state(w);
+  close_section();
+
+  len_at = w.size();
+  w.put(std::uint32_t{0});
   snapshots.save_state(w);
+  close_section();
   w.finish();
 }
 
-void Match::Impl::restore_checkpoint(std::span<const std::uint8_t> bytes) {
-  ByteReader r(bytes);
-  const auto magic = r.get<std::uint32_t>("magic");
-  if (magic != kMagic) r.fail("not a match checkpoint (magic " + hex(magic) + ", expected " + hex(kMagic) + ")");
-  const auto version = r.get<std::uint32_t>("version");
-  if (version != kVersion) {
-    r.fail("checkpoint version " + std::to_string(version) + ", this build reads version " + std::to_string(kVersion));
-  }
-  const auto their_scene = r.get<std::uint64_t>("scene hash");
-  const auto their_config = r.get<std::uint64_t>("config hash");
-  const auto n = r.get<std::uint32_t>("body count");
-  const std::size_t my_n = world().body_count();
-  if (n != my_n) {
-    throw CheckpointError("checkpoint is from another scene: it has " + std::to_string(n) + " bodies, this match " +
+namespace {
+
+// Restores into m (Match::Impl; a template so that this file-local function may take the private
+// type). Decodes everything into staging copies first, then restores the world (which checks and
+// only then commits), then commits the rest: a bad checkpoint leaves the match unchanged.
+template <class Impl>
+void restore_match(Impl& m, std::span<const std::uint8_t> bytes, RestoreOptions options) {
+  const bool keep_baselines = options.snapshot_baselines == SnapshotBaselines::restore;
+  ByteReader header(bytes);
+  const Layout l = read_layout(header);
+  const std::size_t my_n = m.world().body_count();
+  if (l.bodies != my_n) {
+    throw CheckpointError("checkpoint is from another scene: it has " + std::to_string(l.bodies) + " bodies, this match " +
                           std::to_string(my_n));
   }
-  if (their_scene != scene_hash) {
-    throw CheckpointError("checkpoint is from another scene: scene hash " + hex(their_scene) + ", this match " +
-                          hex(scene_hash) + " (parameter table, policy, scenery or spawn layout differ)");
+  if (l.scene_hash != m.scene_hash) {
+    throw CheckpointError("checkpoint is from another scene: scene hash " + hex(l.scene_hash) + ", this match " +
+                          hex(m.scene_hash) + " (parameter table, policy, scenery or spawn layout differ)");
   }
-  if (their_config != config_hash) {
-    throw CheckpointError("checkpoint is from a match with another config: config hash " + hex(their_config) +
-                          ", this match " + hex(config_hash));
+  const ConfigHashes mine = config_hashes(m.config);
+  if (l.version == 1 ? l.config_hash != mine.v1 : l.config_hash != mine.sim) {
+    throw CheckpointError("checkpoint is from a match with another config: config hash " + hex(l.config_hash) +
+                          ", this match " + hex(l.version == 1 ? mine.v1 : mine.sim) +
+                          (l.version == 1 ? " (a version 1 checkpoint includes the interest settings in it)" : ""));
   }
-  const auto their_ticks = r.get<std::uint64_t>("tick");
-  const std::uint32_t world_len = r.get<std::uint32_t>("world section length");
-  const std::span<const std::uint8_t> world_bytes(r.take(world_len, "world section"), world_len);
+  if (l.version >= 2 && keep_baselines && l.interest_hash != mine.interest) {
+    throw CheckpointError("checkpoint is from a match with another config: interest settings hash " + hex(l.interest_hash) +
+                          ", this match " + hex(mine.interest) +
+                          " (its snapshot baselines restore only into the same interest settings)");
+  }
+  const std::uint32_t n = l.bodies;
+  ByteReader r(l.match);
 
   // Decode the match section into staging copies first: nothing changes until all of it decoded.
   const bool their_shutdown = r.get_bool("shutdown flag");
@@ -205,10 +285,10 @@ void Match::Impl::restore_checkpoint(std::span<const std::uint8_t> bytes) {
   const auto param_version = r.get<std::uint32_t>("param version");
   const auto policy_hash_now = r.get<std::uint64_t>("policy hash");
   std::vector<std::uint8_t> roster_faction, roster_type;
-  r.get_array_exact(roster_faction, "roster factions", info.roster.faction.size());
-  r.get_array_exact(roster_type, "roster character types", info.roster.character_type.size());
-  std::vector<float> softness(r.get_count("scenery softness", info.scenery.size(), 4));
-  if (softness.size() != info.scenery.size()) r.fail("scenery count differs from this match's");
+  r.get_array_exact(roster_faction, "roster factions", m.info.roster.faction.size());
+  r.get_array_exact(roster_type, "roster character types", m.info.roster.character_type.size());
+  std::vector<float> softness(r.get_count("scenery softness", m.info.scenery.size(), 4));
+  if (softness.size() != m.info.scenery.size()) r.fail("scenery count differs from this match's");
   for (float& s : softness) s = r.get<float>("scenery softness");
   std::deque<ClientRecord> records;
   const std::uint32_t n_clients = r.get_count("clients", kMaxClientsEver, 100);
@@ -219,41 +299,61 @@ void Match::Impl::restore_checkpoint(std::span<const std::uint8_t> bytes) {
   for (std::uint32_t c : their_controller) {
     if (c > records.size()) r.fail("a body is controlled by client " + std::to_string(c) + ", never seen");
   }
-  NpcAi staged_ai = ai;
+  NpcAi staged_ai = m.ai;
   staged_ai.restore_state(r, n);
-  SnapshotBuilder staged_snapshots(config.interest);
-  // The builder's tables grow to at most 1.25x the largest object index, at least 1,024
-  // (interest_grid.cpp): anything beyond twice that is corrupt.
-  staged_snapshots.restore_state(r, std::max<std::size_t>(1024, 2 * dense_of_slot.size()));
-  if (r.remaining() != 0) r.fail(std::to_string(r.remaining()) + " bytes after the end of the checkpoint");
+  SnapshotBuilder staged_snapshots(m.config.interest);
+  // Version 1 has the snapshot section at the end of the match section.
+  ByteReader snap = l.version == 1 ? r : ByteReader(l.snapshots);
+  if (keep_baselines) {
+    // The builder's tables grow to at most 1.25x the largest object index, at least 1,024
+    // (interest_grid.cpp): anything beyond twice that is corrupt.
+    staged_snapshots.restore_state(snap, std::max<std::size_t>(1024, 2 * m.dense_of_slot.size()));
+    if (snap.remaining() != 0) snap.fail(std::to_string(snap.remaining()) + " bytes after the end of the checkpoint");
+  } else {
+    // As at each client's join (take_over): the builder knows exactly the connected clients.
+    for (const ClientRecord& c : records) {
+      if (c.connected) staged_snapshots.add_client(c.id);
+    }
+  }
+  if (l.version >= 2 && r.remaining() != 0) r.fail(std::to_string(r.remaining()) + " bytes after the match section");
 
-  world().restore_state(world_bytes);  // throws before changing anything; the last thing that may throw
+  m.world().restore_state(l.world);  // throws before changing anything; the last thing that may throw
 
   // Commit.
-  ticks = their_ticks;
-  shutting_down = their_shutdown;
-  info_dirty = their_info_dirty;
-  std::copy(their_rejected.begin(), their_rejected.end(), rejected.begin());
-  accepted_total = their_accepted;
-  yaw = std::move(their_yaw);
-  controller = std::move(their_controller);
-  info.state = static_cast<protocol::MatchState>(state);
-  info.param_version = param_version;
-  info.push_policy_hash = policy_hash_now;
-  info.roster.faction = std::move(roster_faction);
-  info.roster.character_type = std::move(roster_type);
-  for (std::size_t s = 0; s < softness.size(); ++s) info.scenery[s].softness = softness[s];
-  clients.restore(std::move(records));
-  ai = std::move(staged_ai);
-  snapshots = std::move(staged_snapshots);
-  const World& w = world();
+  m.ticks = l.tick;
+  m.shutting_down = their_shutdown;
+  m.info_dirty = their_info_dirty;
+  std::copy(their_rejected.begin(), their_rejected.end(), m.rejected.begin());
+  m.accepted_total = their_accepted;
+  m.yaw = std::move(their_yaw);
+  m.controller = std::move(their_controller);
+  m.info.state = static_cast<protocol::MatchState>(state);
+  m.info.param_version = param_version;
+  m.info.push_policy_hash = policy_hash_now;
+  m.info.roster.faction = std::move(roster_faction);
+  m.info.roster.character_type = std::move(roster_type);
+  for (std::size_t s = 0; s < softness.size(); ++s) m.info.scenery[s].softness = softness[s];
+  m.clients.restore(std::move(records));
+  m.ai = std::move(staged_ai);
+  m.snapshots = std::move(staged_snapshots);
+  const World& w = m.world();
   for (std::size_t d = 0; d < n; ++d) {
     const ObjectId oid = w.id_at(d);
-    id_values[d] = oid.value;
-    if (dense_of_slot.size() <= oid.index()) dense_of_slot.resize(oid.index() + 1, kNoDense);
-    dense_of_slot[oid.index()] = static_cast<std::uint32_t>(d);
+    m.id_values[d] = oid.value;
+    if (m.dense_of_slot.size() <= oid.index()) m.dense_of_slot.resize(oid.index() + 1, kNoDense);
+    m.dense_of_slot[oid.index()] = static_cast<std::uint32_t>(d);
   }
-  report = TickReport{};
+  m.report = TickReport{};
+}
+
+}  // namespace
+
+void Match::Impl::restore_checkpoint(std::span<const std::uint8_t> bytes) { restore_match(*this, bytes, RestoreOptions{}); }
+
+void Match::restore_checkpoint(std::span<const std::uint8_t> bytes, RestoreOptions options) {
+  restore_match(*impl_, bytes, options);
+  // As the one-argument overload (match.cpp) does: grants are not in checkpoints.
+  impl_->contacts_granted.clear();
 }
 
 }  // namespace throng::match

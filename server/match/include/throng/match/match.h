@@ -102,6 +102,40 @@ struct Outbox {
   }
 };
 
+// What Match::restore_checkpoint does with the snapshot builder's per-client baselines (each
+// client's copy of every object it was sent: what its next snapshots contain depends on them).
+enum class SnapshotBaselines : std::uint8_t {
+  // Restored: the checkpoint must come from a match with the same interest settings (checked), and
+  // the next snapshots are byte for byte those the saved match would have built.
+  restore,
+  // Not read: every connected client starts from an empty baseline, as a client that has just
+  // joined, under this match's own interest settings, which may differ from the saved match's
+  // (the interest settings and baselines shape snapshot content only; nothing the snapshots phase
+  // computes feeds back into the world, the AI or the clients, so state hashes continue exactly as
+  // in the saved match). For re-simulations that need the world and its hashes, not the saved
+  // snapshot stream: verify, seeking for a viewer. Checkpoint version 2 or later (version 1 mixed
+  // the interest settings into its config hash: it restores only into the same interest settings).
+  reset,
+};
+
+struct RestoreOptions {
+  SnapshotBaselines snapshot_baselines = SnapshotBaselines::restore;
+};
+
+// Where the sections of a checkpoint are (layout: server/match/src/CHECKPOINT.md), found from its
+// header and section lengths without decoding them. Throws CheckpointError on bad bytes.
+struct CheckpointSections {
+  std::uint32_t version = 0;
+  std::uint64_t tick = 0;
+  std::span<const std::uint8_t> world;               // World::save_state bytes
+  // Version 2: the match state between the world and the snapshot baselines (clients, NPC AI, ...),
+  // and the snapshot builder's section. Version 1: everything after the world, baselines included,
+  // in match_state (the baselines are not length-prefixed there); snapshot_baselines empty.
+  std::span<const std::uint8_t> match_state;
+  std::span<const std::uint8_t> snapshot_baselines;
+};
+CheckpointSections checkpoint_sections(std::span<const std::uint8_t> bytes);
+
 struct ClientSummary {
   std::uint32_t client_id = 0;
   std::uint32_t entity = 0;
@@ -176,6 +210,10 @@ class Match {
   // unchanged then. Inputs queued but not yet drained stay queued; the snapshot sink and the
   // match id are this match's own.
   void restore_checkpoint(std::span<const std::uint8_t> bytes);
+  // The same with options (the one above is options = {}): snapshot_baselines = reset restores
+  // everything but the snapshot baselines, also into a match whose interest settings differ from
+  // the saved one's (see SnapshotBaselines); the next snapshots start afresh.
+  void restore_checkpoint(std::span<const std::uint8_t> bytes, RestoreOptions options);
 
  private:
   struct Impl;
