@@ -35,9 +35,10 @@ int main(int argc, char** argv) {
   verify_cmd->add_option("LOG", verify.log, "match log file")->required();
   verify_cmd->add_flag("-q,--quiet", verify.quiet, "no progress on stderr");
   verify_cmd->add_flag("--exact-config", verify.exact_config,
-                       "re-simulate with the logged interest settings (default: a 1 cm interest radius, since "
-                       "snapshots are not part of the state hash; ~2x faster). Logs with keyframes always use the "
-                       "logged settings (a checkpoint restores only into the logged config)");
+                       "re-simulate with the logged interest settings and restore keyframes with their snapshot "
+                       "baselines (default: a 1 cm interest radius, one snapshot thread, keyframes restored "
+                       "without baselines, since snapshots are not part of the state hash; ~2x faster). Version 1 "
+                       "keyframes (earlier builds' logs) always use the logged settings");
   verify_cmd->add_option("-j,--jobs", verify.jobs,
                          "threads: a log with keyframes is split into keyframe-aligned segments verified in parallel, "
                          "each from its logged keyframe (default: hardware threads)")

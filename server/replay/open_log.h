@@ -5,17 +5,18 @@
 #include <exception>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include <fmt/format.h>
 
 namespace throng::replay {
 
-// T is matchlog::MatchLogReader or matchlog::LogPlayer (both open from a path and throw on a bad
-// file). nullptr after printing the reason.
-template <class T>
-std::unique_ptr<T> open_log(const char* command, const std::string& path) {
+// T is matchlog::MatchLogReader or matchlog::LogPlayer (both open from a path, with T's further
+// constructor arguments, and throw on a bad file). nullptr after printing the reason.
+template <class T, class... Args>
+std::unique_ptr<T> open_log(const char* command, const std::string& path, Args&&... args) {
   try {
-    return std::make_unique<T>(path);
+    return std::make_unique<T>(path, std::forward<Args>(args)...);
   } catch (const std::exception& e) {
     fmt::print(stderr, "throng-replay {}: {}\n", command, e.what());
     return nullptr;

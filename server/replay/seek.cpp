@@ -10,7 +10,11 @@
 namespace throng::replay {
 
 int run_seek(const SeekOptions& o) {
-  const auto player = open_log<matchlog::LogPlayer>("seek", o.log);
+  // seek reports the world's hash: the cheap settings (PlayerOptions: exact_interest = false)
+  // restore keyframes without the snapshot baselines and skip the logged clients' snapshots.
+  matchlog::PlayerOptions po;
+  po.resim.exact_interest = false;
+  const auto player = open_log<matchlog::LogPlayer>("seek", o.log, po);
   if (!player) return kExitBadInput;
   if (o.tick < 1 || o.tick > player->last_tick()) {
     const auto& s = player->scan();

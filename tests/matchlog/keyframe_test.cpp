@@ -4,9 +4,11 @@
 // segments in parallel and names the objects that diverged.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <thread>
 
+#include "matchlog/checkpoint_v1.h"
 #include "matchlog_test_util.h"
 #include "throng/match/checkpoint_diff.h"
 #include "throng/matchlog/log_player.h"
@@ -221,11 +223,156 @@ TEST(Keyframes, PlayerSeeksThroughTheNearestKeyframe) {
 
 TEST(Keyframes, PlayerWithViewerSettingsStillUsesKeyframes) {
   PlayerOptions o;
-  o.resim.exact_interest = false;  // a log with keyframes overrides this (checkpoints need the logged config)
+  o.resim.exact_interest = false;  // keyframes restore without their snapshot baselines
   LogPlayer player(keyframed_log().string(), o);
   const SeekResult r = player.seek(185);
   EXPECT_EQ(r.keyframe_tick, 180u);
+  EXPECT_TRUE(player.keyframe_problem().empty()) << player.keyframe_problem();
   EXPECT_EQ(player.match().state_hash(), played().ticks[184].state_hash);
+}
+
+using Bytes = std::vector<std::uint8_t>;
+
+Bytes checkpoint_of(const match::Match& m) {
+  Bytes b;
+  m.save_checkpoint(b);
+  return b;
+}
+
+// Everything of a checkpoint but the snapshot baselines: the world and the match section
+// (clients, NPC AI, facing, counters, match info).
+void expect_same_state_but_baselines(const Bytes& a, const Bytes& b, const std::string& where) {
+  const match::CheckpointSections x = match::checkpoint_sections(a), y = match::checkpoint_sections(b);
+  EXPECT_EQ(x.tick, y.tick) << where;
+  EXPECT_TRUE(std::equal(x.world.begin(), x.world.end(), y.world.begin(), y.world.end())) << where << ": world";
+  EXPECT_TRUE(std::equal(x.match_state.begin(), x.match_state.end(), y.match_state.begin(), y.match_state.end()))
+      << where << ": match section";
+}
+
+TEST(Keyframes, WorldOnlyRestoreThenSteppingGivesTheLoggedHashes) {
+  // A fast re-simulation (1 cm interest radius, one snapshot thread) restores each logged keyframe
+  // without its snapshot baselines: every later hash is the logged one, and at every 15th tick the
+  // world and match state equal the live match's checkpoint; only the baselines are its own.
+  const auto& p = played();
+  MatchLogReader reader(keyframed_log().string());
+  ASSERT_EQ(reader.scan().keyframes.size(), 3u);
+  for (const KeyframeInfo& k : reader.scan().keyframes) {
+    SCOPED_TRACE("from the keyframe of tick " + std::to_string(k.tick));
+    Bytes logged;
+    reader.read_keyframe(k, logged);
+    ASSERT_TRUE(Resimulator::restores_with_fast_interest(logged));
+    Resimulator sim(reader.header(), ResimOptions{});
+    ASSERT_FALSE(sim.options().exact_interest);
+    sim.restore(logged);
+    EXPECT_EQ(sim.tick(), k.tick);
+    for (std::uint64_t t = k.tick + 1; t <= p.ticks.size(); ++t) {
+      TickRecord rec = p.ticks[t - 1];
+      ASSERT_EQ(sim.step(rec), p.ticks[t - 1].state_hash) << "tick " << t;
+      if (t % 15 == 0) {
+        const Bytes mine = checkpoint_of(sim.match());
+        expect_same_state_but_baselines(mine, p.keyframes[t / 15 - 1], "tick " + std::to_string(t));
+        EXPECT_FALSE(match::checkpoint_sections(mine).snapshot_baselines.empty());
+      }
+      // The outbox still has a (tiny) snapshot per connected client, and the same replies/events.
+      EXPECT_EQ(sim.outbox().snapshot_count, sim.match().client_count());
+    }
+  }
+}
+
+TEST(Keyframes, ViewerSeekEqualsSteppingFromTheStart) {
+  // What throng-view --log and throng-replay seek see at a seek's target (world, facing, clients,
+  // match info, hash) and over the next ticks (hashes, replies, client events) equals stepping
+  // from tick 1, forwards and backwards, through keyframes and without.
+  const auto& p = played();
+  const auto path = keyframed_log();
+  PlayerOptions o;
+  o.resim.exact_interest = false;
+  LogPlayer seeker(path.string(), o);
+  for (std::uint64_t target : {150u, 70u, 185u, 60u, 121u, 20u, 199u}) {
+    SCOPED_TRACE("seek to " + std::to_string(target));
+    const SeekResult r = seeker.seek(target);
+    ASSERT_EQ(r.tick, target);
+    EXPECT_EQ(r.hash_mismatches, 0u);
+    EXPECT_EQ(r.keyframe_tick, target >= 60 ? target / 60 * 60 : 0u);
+    LogPlayer stepper(path.string(), o);  // only step(): never touches a keyframe
+    while (stepper.tick() < target) ASSERT_TRUE(stepper.step());
+    EXPECT_EQ(seeker.match().state_hash(), p.ticks[target - 1].state_hash);
+    expect_same_state_but_baselines(checkpoint_of(seeker.match()), checkpoint_of(stepper.match()), "at the target");
+    EXPECT_EQ(seeker.match().match_info().state, stepper.match().match_info().state);
+    EXPECT_EQ(seeker.match().match_info().param_version, stepper.match().match_info().param_version);
+    const auto a = seeker.match().clients(), b = stepper.match().clients();
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].client_id, b[i].client_id);
+      EXPECT_EQ(a[i].entity, b[i].entity);
+      EXPECT_EQ(a[i].last_applied_sequence, b[i].last_applied_sequence);
+    }
+    for (int i = 0; i < 3 && seeker.tick() < seeker.last_tick(); ++i) {
+      ASSERT_TRUE(seeker.step());
+      ASSERT_TRUE(stepper.step());
+      EXPECT_TRUE(seeker.last_hash_matched());
+      EXPECT_EQ(seeker.last_report().state_hash, stepper.last_report().state_hash);
+      EXPECT_EQ(seeker.outbox().join_replies.size(), stepper.outbox().join_replies.size());
+      EXPECT_EQ(seeker.outbox().param_replies.size(), stepper.outbox().param_replies.size());
+      EXPECT_EQ(seeker.outbox().client_events.size(), stepper.outbox().client_events.size());
+      EXPECT_EQ(seeker.outbox().match_info_changed, stepper.outbox().match_info_changed);
+    }
+  }
+}
+
+TEST(Keyframes, PlaySeekKeepsTheServersSnapshotsByteForByte) {
+  // The default player (play): after a seek through a keyframe, the whole match state, snapshot
+  // baselines included, equals stepping from tick 1, and so do the next ticks' snapshots.
+  const auto path = keyframed_log();
+  LogPlayer seeker(path.string());
+  LogPlayer stepper(path.string());
+  const SeekResult r = seeker.seek(133);
+  ASSERT_EQ(r.keyframe_tick, 120u);
+  while (stepper.tick() < 133) ASSERT_TRUE(stepper.step());
+  EXPECT_EQ(checkpoint_of(seeker.match()), checkpoint_of(stepper.match()));
+  for (int i = 0; i < 5; ++i) {
+    ASSERT_TRUE(seeker.step());
+    ASSERT_TRUE(stepper.step());
+    const match::Outbox &a = seeker.outbox(), &b = stepper.outbox();
+    ASSERT_EQ(a.snapshot_count, b.snapshot_count);
+    ASSERT_GT(a.snapshot_count, 0u);
+    for (std::size_t s = 0; s < a.snapshot_count; ++s) {
+      EXPECT_EQ(a.snapshots[s].client_id, b.snapshots[s].client_id);
+      EXPECT_EQ(a.snapshots[s].id_codes, b.snapshots[s].id_codes);
+      EXPECT_EQ(a.snapshots[s].x, b.snapshots[s].x);
+      EXPECT_EQ(a.snapshots[s].y, b.snapshots[s].y);
+      EXPECT_EQ(a.snapshots[s].yaw, b.snapshots[s].yaw);
+      EXPECT_EQ(a.snapshots[s].removed, b.snapshots[s].removed);
+    }
+  }
+}
+
+TEST(Keyframes, VersionOneKeyframesOfEarlierBuildsStillSeekAndVerify) {
+  // An earlier build's log: its keyframes are checkpoint version 1, which restore only into the
+  // logged interest settings. The viewer's player switches to them at its first restore; verify
+  // runs such segments with them; both still use the keyframes.
+  const auto& p = played();
+  std::vector<Bytes> v1;
+  for (const Bytes& k : p.keyframes) v1.push_back(::throng::test::as_version_1(k, test::match_header().config));
+  const auto path = test::test_dir() / "v1kf.tlog";
+  test::write_played(path, p.ticks, test::match_header(), {}, 0, &v1);
+  PlayerOptions o;
+  o.resim.exact_interest = false;
+  LogPlayer player(path.string(), o);
+  const SeekResult r = player.seek(150);
+  EXPECT_EQ(r.keyframe_tick, 120u);
+  EXPECT_TRUE(player.keyframe_problem().empty()) << player.keyframe_problem();
+  EXPECT_EQ(player.match().state_hash(), p.ticks[149].state_hash);
+  EXPECT_EQ(r.hash_mismatches, 0u);
+  MatchLogReader reader(path.string());
+  Bytes k;
+  reader.read_keyframe(reader.scan().keyframes[0], k);
+  EXPECT_FALSE(Resimulator::restores_with_fast_interest(k));
+  for (unsigned jobs : {1u, 2u}) {
+    const VerifyResult v = verify_log(reader, {}, 30, {}, jobs);
+    EXPECT_TRUE(v.all_match()) << jobs << " " << v.diff_note << " " << v.keyframe_note;
+    EXPECT_EQ(v.keyframes_checked, 3u);
+  }
 }
 
 TEST(Keyframes, VerifyComparesKeyframesAndSplitsIntoSegments) {

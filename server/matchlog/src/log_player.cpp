@@ -11,8 +11,6 @@ namespace throng::matchlog {
 struct LogPlayer::Impl {
   explicit Impl(const std::string& path, PlayerOptions o) : reader(path), options(o) {
     const LogScan& s = reader.scan();
-    // Keyframes restore only into a Match of the logged config (see ResimOptions).
-    if (!s.keyframes.empty()) options.resim.exact_interest = true;
     last = s.ticks == 0 ? 0 : s.last_tick;
     if (!s.gaps.empty()) last = std::min(last, s.gaps.front().first_tick - 1);
     restart();
@@ -31,6 +29,12 @@ struct LogPlayer::Impl {
   bool restore(const KeyframeInfo& k) {
     try {
       reader.read_keyframe(k, checkpoint);
+      if (!options.resim.exact_interest && !Resimulator::restores_with_fast_interest(checkpoint)) {
+        // A version 1 keyframe (an earlier build's log) restores only into the logged interest
+        // settings: from now on this player uses them.
+        options.resim.exact_interest = true;
+        sim = std::make_unique<Resimulator>(reader.header(), options.resim);
+      }
       sim->restore(checkpoint);
     } catch (const std::exception& e) {
       keyframe_problem = fmt::format("the keyframe of tick {} cannot be restored ({}); seeking re-simulates from tick 1",

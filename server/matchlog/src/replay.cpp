@@ -22,14 +22,31 @@ match::MatchConfig replay_config(const LogHeader& h, const ResimOptions& o) {
   if (!o.exact_interest) {
     c.interest.radius_m = 0.01;
     c.interest.budget_bytes = 128;
+    c.worker_threads = 1;  // not part of any result (match_config.h)
   }
   return c;
+}
+
+// Options for a re-simulation that starts from `checkpoint`: a version 1 checkpoint restores only
+// into the logged interest settings.
+ResimOptions options_for(ResimOptions o, std::span<const std::uint8_t> checkpoint) {
+  if (!o.exact_interest && !Resimulator::restores_with_fast_interest(checkpoint)) o.exact_interest = true;
+  return o;
+}
+
+bool same_bytes(std::span<const std::uint8_t> a, std::span<const std::uint8_t> b) {
+  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin());
 }
 
 }  // namespace
 
 Resimulator::Resimulator(const LogHeader& header, ResimOptions options)
-    : match_(std::make_unique<match::Match>(replay_scene(header, options), replay_config(header, options), header.match_id)) {}
+    : options_(options),
+      match_(std::make_unique<match::Match>(replay_scene(header, options), replay_config(header, options), header.match_id)) {}
+
+bool Resimulator::restores_with_fast_interest(std::span<const std::uint8_t> checkpoint) {
+  return match::checkpoint_sections(checkpoint).version >= 2;
+}
 
 Resimulator::~Resimulator() = default;
 
@@ -91,19 +108,16 @@ RangeOutcome verify_range(const MatchLogReader& reader, ResimOptions options, Ra
   o.verified_through = range.start;
   try {
     const auto& kfs = reader.scan().keyframes;
-    // Restoring a keyframe needs the logged config; the range from the match start does not, and
-    // keeps the faster interest settings unless asked otherwise (keyframes are then compared on
-    // their world section only, which does not depend on the interest settings).
-    if (range.start > 0) options.exact_interest = true;
-    const bool exact = options.exact_interest;
-    Resimulator sim(reader.header(), options);
     std::vector<std::uint8_t> logged, mine;
     if (range.start > 0) {
       const KeyframeInfo* k = reader.find_keyframe(range.start);
       if (k == nullptr || k->tick != range.start) throw LogError(fmt::format("no keyframe at tick {}", range.start));
       reader.read_keyframe(*k, logged);
-      sim.restore(logged);
+      options = options_for(options, logged);
     }
+    const bool exact = options.exact_interest;
+    Resimulator sim(reader.header(), options);
+    if (range.start > 0) sim.restore(logged);
     TickCursor cursor(reader);
     cursor.seek(range.start + 1);
     std::size_t next_kf = first_keyframe_after(kfs, range.start);
@@ -134,34 +148,46 @@ RangeOutcome verify_range(const MatchLogReader& reader, ResimOptions options, Ra
         sim.match().save_checkpoint(mine);
         ++o.keyframes_checked;
         ++next_kf;
-        if (!exact || logged != mine) {
-          // The world must be equal (bodies: pose, velocities, parameters, ...): a difference is a
-          // divergence even when the hash missed it. Outside the world (NPC AI, clients, snapshot
-          // baselines) a difference is reported, not failed: the world and every hash still match.
-          bool world_differs = false;
-          try {
+        // The world must be equal (bodies: pose, velocities, parameters, ...): a difference is a
+        // divergence even when the hash missed it. Outside the world (clients, NPC AI, counters;
+        // snapshot baselines with the logged interest settings) a difference is reported, not
+        // failed: the world and every hash still match.
+        bool world_differs = false;
+        try {
+          const match::CheckpointSections a = match::checkpoint_sections(logged), b = match::checkpoint_sections(mine);
+          if (!same_bytes(a.world, b.world)) {
             o.differences = match::diff_checkpoints(logged, mine, 20);
             world_differs = !o.differences.empty();
-          } catch (const std::exception& e) {
-            world_differs = true;
-            o.where = e.what();
           }
-          if (world_differs) {
-            o.keyframe_mismatch = true;
-            o.keyframe_tick = tick;
-            lower_to(earliest_failure, tick);
-            break;
+          std::string section;
+          std::span<const std::uint8_t> sa, sb;
+          if (world_differs || a.version != b.version || !o.outside_world_note.empty()) {
+            // nothing more to compare (a keyframe of another checkpoint version has other sections)
+          } else if (!same_bytes(a.match_state, b.match_state)) {
+            section = "match section (clients, NPC AI, counters)";
+            sa = a.match_state, sb = b.match_state;
+          } else if (exact && !same_bytes(a.snapshot_baselines, b.snapshot_baselines)) {
+            section = "snapshot baselines";
+            sa = a.snapshot_baselines, sb = b.snapshot_baselines;
           }
-          if (exact && o.outside_world_note.empty()) {
-            const auto at = std::mismatch(logged.begin(), logged.end(), mine.begin(), mine.end());
+          if (!section.empty()) {
+            const auto at = std::mismatch(sa.begin(), sa.end(), sb.begin(), sb.end());
             o.outside_world_note = fmt::format(
-                "at the keyframe of tick {} (re-simulated from {}) the world and the state hashes match but the rest of "
-                "the checkpoint differs ({} bytes logged, {} re-simulated, first difference at byte {}): match state "
-                "outside the world (NPC AI, clients or snapshot baselines) did not survive the keyframe restore or "
-                "re-simulation exactly",
+                "at the keyframe of tick {} (re-simulated from {}) the world and the state hashes match but the {} "
+                "differs ({} bytes logged, {} re-simulated, first difference at byte {} of the section): match state "
+                "outside the world did not survive the keyframe restore or re-simulation exactly",
                 tick, range.start == 0 ? std::string("the match start") : fmt::format("the keyframe of tick {}", range.start),
-                logged.size(), mine.size(), at.first - logged.begin());
+                section, sa.size(), sb.size(), at.first - sa.begin());
           }
+        } catch (const std::exception& e) {
+          world_differs = true;
+          o.where = e.what();
+        }
+        if (world_differs) {
+          o.keyframe_mismatch = true;
+          o.keyframe_tick = tick;
+          lower_to(earliest_failure, tick);
+          break;
         }
       }
       if (tick_done) tick_done();
@@ -176,7 +202,8 @@ RangeOutcome verify_range(const MatchLogReader& reader, ResimOptions options, Ra
 }  // namespace
 
 void Resimulator::restore(std::span<const std::uint8_t> checkpoint) {
-  match_->restore_checkpoint(checkpoint);
+  match_->restore_checkpoint(checkpoint, match::RestoreOptions{options_.exact_interest ? match::SnapshotBaselines::restore
+                                                                                       : match::SnapshotBaselines::reset});
   report_ = nullptr;
   shutdown_ = false;  // a flagged tick after the keyframe calls begin_shutdown() again (idempotent)
 }
@@ -295,15 +322,15 @@ void explain_divergence(const MatchLogReader& reader, std::uint64_t divergent_ti
     v.diff_note = fmt::format("no logged keyframe at or after tick {} to compare the world with", divergent_tick);
     return;
   }
-  options.exact_interest = true;
   const KeyframeInfo* before = reader.find_keyframe(divergent_tick - 1);
   try {
-    Resimulator sim(reader.header(), options);
     std::vector<std::uint8_t> logged, mine;
     if (before != nullptr) {
       reader.read_keyframe(*before, logged);
-      sim.restore(logged);
+      options = options_for(options, logged);
     }
+    Resimulator sim(reader.header(), options);
+    if (before != nullptr) sim.restore(logged);
     TickCursor cursor(reader);
     cursor.seek(sim.tick() + 1);
     TickRecord t;

@@ -19,10 +19,18 @@
 namespace throng::matchlog {
 
 struct PlayerOptions {
-  // Snapshots are what play publishes, so the logged interest settings are used by default
-  // (ResimOptions::exact_interest = true). Viewers that read the world directly may turn it off.
-  // A log with keyframes always uses the logged settings (a checkpoint restores only into a Match
-  // of the logged config).
+  // exact_interest = true (default): snapshots are what play publishes, so the logged interest
+  // settings are used, keyframes are restored whole (snapshot baselines included) and every tick
+  // on the way to a seek's target builds its snapshots: from any seek on, the outbox holds byte for
+  // byte the snapshots the server built. A seek costs the keyframe restore plus up to a keyframe
+  // interval of full ticks.
+  // false: for everything that reads the world, the match state and the hashes, not the logged
+  // snapshot stream (throng-view --log, throng-replay seek): cheap interest settings, keyframes
+  // restored without their snapshot baselines (match::SnapshotBaselines::reset). World, match
+  // state (clients, NPC AI, facing, match info) and state hashes at any tick are exactly those of
+  // stepping from the start; the outbox's snapshots are this player's own (tiny, from empty
+  // baselines after each keyframe restore). A log whose keyframes are checkpoint version 1 switches
+  // to the logged settings at its first keyframe restore (they restore only into them).
   ResimOptions resim{.record_push_events = false, .exact_interest = true};
 };
 

@@ -25,13 +25,18 @@ struct ResimOptions {
   // Force WorldSettings::record_push_events on (export). The state hash does not depend on it
   // (push events steer nothing), and every step's hash is checked anyway.
   bool record_push_events = false;
-  // false (default): replay with a 1 cm interest radius and the smallest snapshot budget. The
-  // interest settings only shape snapshot content, which is not part of the state hash
-  // (server/match: match_snapshots.cpp is their only reader), and building 50 full snapshots is
-  // ~45% of a re-simulated tick at 6,000 bodies. Should that ever stop being true, verify reports
-  // a mismatch (it can never pass falsely: the hash covers the world). true: the logged settings.
-  // Keyframes (checkpoints) only restore into, and compare equal with, a Match of the logged
-  // config: everything that restores or compares keyframes turns exact_interest on.
+  // false (default): replay with a 1 cm interest radius, the smallest snapshot budget and one
+  // snapshot thread. The interest settings only shape snapshot content, which is not part of the
+  // state hash (server/match: match_snapshots.cpp is their only reader), and building 50 full
+  // snapshots is ~45% of a re-simulated tick at 5,000 bodies (the worker pool's hand-offs cost more
+  // than the 1 cm builds they would share). Keyframes are restored without their snapshot
+  // baselines (match::SnapshotBaselines::reset: every state hash continues exactly; the snapshots
+  // in the outbox are this replay's own, not the server's). Should the snapshots ever feed back
+  // into the simulation, verify reports a mismatch (it can never pass falsely: the hash covers the
+  // world). Keyframes of checkpoint version 1 (logs of earlier builds) restore only into the logged
+  // interest settings: callers check restores_with_fast_interest() and turn exact_interest on.
+  // true: the logged settings and worker threads; keyframes restored whole, so the outbox holds
+  // byte for byte the snapshots the server built (throng-replay play).
   bool exact_interest = false;
 };
 
@@ -39,9 +44,14 @@ class Resimulator {
  public:
   explicit Resimulator(const LogHeader& header, ResimOptions options = {});
   ~Resimulator();
-  // Replaces the match's state with a logged keyframe's checkpoint (Match::restore_checkpoint;
-  // throws match::CheckpointError). The next step() must then be the keyframe's tick + 1.
+  // Replaces the match's state with a logged keyframe's checkpoint (Match::restore_checkpoint, with
+  // SnapshotBaselines::reset unless exact_interest; throws match::CheckpointError, e.g. for a
+  // version 1 checkpoint without exact_interest). The next step() must then be the keyframe's tick + 1.
   void restore(std::span<const std::uint8_t> checkpoint);
+  // Whether a checkpoint can be restored without exact_interest (checkpoint version 2 or later).
+  // Throws match::CheckpointError on bytes that are not a checkpoint.
+  static bool restores_with_fast_interest(std::span<const std::uint8_t> checkpoint);
+  const ResimOptions& options() const { return options_; }
   // Applies one logged tick (its inputs are moved out): begin_shutdown() if the tick is flagged,
   // push the inputs, tick(). Returns the recomputed state hash. Throws LogError if t.tick is not
   // the next tick (a gap in the log cannot be re-simulated across).
@@ -53,6 +63,7 @@ class Resimulator {
   std::uint64_t tick() const;
 
  private:
+  ResimOptions options_;
   std::unique_ptr<match::Match> match_;
   match::Outbox out_;
   const match::TickReport* report_ = nullptr;
@@ -72,9 +83,9 @@ struct VerifyResult {
   std::vector<match::BodyDifference> differences;
   std::uint64_t diff_from_tick = 0, diff_tick = 0;
   std::string diff_note;             // why no objects could be named ("" when differences says it)
-  // Not a failure: with the logged interest settings the whole checkpoint is compared too; the first
-  // keyframe whose world matched but whose other match state (NPC AI, clients, snapshot baselines)
-  // did not is described here.
+  // Not a failure: the rest of the checkpoint is compared too (the match section: clients, NPC AI,
+  // counters; with exact_interest also the snapshot baselines); the first keyframe whose world
+  // matched but whose other match state did not is described here.
   std::string keyframe_note;
   std::uint64_t ticks_total = 0;     // readable ticks in the log
   std::uint64_t ticks_verified = 0;  // ticks whose hash matched, from tick 1 on
@@ -95,12 +106,13 @@ struct VerifyResult {
 // once at the end, always from the calling thread.
 //
 // A log with keyframes (format version 2): at every logged keyframe the re-simulated world must
-// equal the keyframe's world (diff_checkpoints; a difference is keyframe_mismatch with the objects
-// named); with exact_interest the whole checkpoint is compared as well (see keyframe_note). jobs > 1
-// splits the log into keyframe-aligned segments verified in parallel, each but the first starting
-// from its logged keyframe with the logged config (a checkpoint restores only into it; the restore
-// is proven by the segment's first hash check and its next keyframe comparison); the result is the
-// same as with jobs = 1. Without keyframes jobs is ignored (one segment).
+// equal the keyframe's world (byte for byte, else diff_checkpoints: a difference is
+// keyframe_mismatch with the objects named); the rest of the checkpoint is compared as well (see
+// keyframe_note). jobs > 1 splits the log into keyframe-aligned segments verified in parallel, each
+// but the first starting from its logged keyframe, restored as ResimOptions says (without its
+// snapshot baselines unless exact_interest; version 1 keyframes with the logged interest settings);
+// the restore is proven by the segment's every hash check and its next keyframe comparison; the
+// result is the same as with jobs = 1. Without keyframes jobs is ignored (one segment).
 using VerifyProgress = std::function<void(std::uint64_t done, std::uint64_t total)>;
 VerifyResult verify_log(MatchLogReader& reader, const VerifyProgress& progress = {}, std::uint64_t progress_every = 30,
                         ResimOptions options = {}, unsigned jobs = 1);
