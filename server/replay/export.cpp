@@ -1,6 +1,7 @@
-// throng-replay export: re-simulate up to --to and write the poses and push events of ticks
-// --from..--to as CSV or JSON. Every re-simulated tick is checked against the logged hash, so an
-// export is never silently of a different match.
+// throng-replay export: re-simulate up to --to (from the logged keyframe before --from, else from
+// tick 1) and write the poses and push events of ticks --from..--to as CSV or JSON. Every
+// re-simulated tick is checked against the logged hash, so an export is never silently of a
+// different match.
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
@@ -173,11 +174,35 @@ int run_export(const ExportOptions& o) {
     matchlog::ResimOptions ro;
     ro.record_push_events = o.pushes;
     ro.exact_interest = o.exact_config;
+    // Start from the logged keyframe at or before --from - 1 when there is one (restored without
+    // its snapshot baselines unless --exact-config: export reads the world, not snapshots), else
+    // from tick 1. A keyframe that does not restore here (e.g. the log's scene records no push
+    // events and --pushes forces them on: another world config) falls back to tick 1.
+    std::vector<std::uint8_t> checkpoint;
+    const matchlog::KeyframeInfo* k = o.from > 1 ? reader->find_keyframe(o.from - 1) : nullptr;
+    if (k != nullptr) {
+      reader->read_keyframe(*k, checkpoint);
+      if (!ro.exact_interest && !matchlog::Resimulator::restores_with_fast_interest(checkpoint)) ro.exact_interest = true;
+    }
     matchlog::Resimulator sim(reader->header(), ro);
+    if (k != nullptr) {
+      try {
+        sim.restore(checkpoint);  // leaves the match at tick 0 when it throws
+      } catch (const match::CheckpointError& e) {
+        if (!o.quiet)
+          fmt::print(stderr, "throng-replay export: the keyframe of tick {} does not restore here ({}); re-simulating from tick 1\n",
+                     k->tick, e.what());
+      }
+    }
     Facing facing;
     sink->begin();
     matchlog::TickRecord t;
-    reader->rewind();
+    if (sim.tick() > 0) {
+      if (!o.quiet) fmt::print(stderr, "throng-replay export: re-simulating from the keyframe of tick {}\n", sim.tick());
+      reader->seek(sim.tick() + 1);
+    } else {
+      reader->rewind();
+    }
     while (reader->next(t) && t.tick <= to) {
       const std::uint64_t tick = t.tick, expected = t.state_hash;
       const std::uint64_t actual = sim.step(t);

@@ -238,6 +238,23 @@ TEST_F(ReplayCli, SeekMismatchAndErrors) {
   EXPECT_TRUE(has(r.out, "from the match start (40 ticks re-simulated)")) << r.out;
 }
 
+TEST_F(ReplayCli, ExportStartsFromTheKeyframeBeforeFromWithTheSameOutput) {
+  // The same ticks exported from a log with a keyframe at tick 60 (restored without its snapshot
+  // baselines) and from one without keyframes (re-simulated from tick 1): identical bytes.
+  const auto kf = dir_ / "kf.tlog";
+  test::write_played(kf, played_->ticks, test::match_header(), {}, 0, &played_->keyframes);
+  for (const char* format : {"csv", "json"}) {
+    const auto a = dir_ / (std::string("from_start.") + format), b = dir_ / (std::string("from_keyframe.") + format);
+    ASSERT_EQ(run("export -q '" + log_.string() + "' --from 70 --to 74 --format " + format + " --out '" + a.string() + "'", dir_).code, 0);
+    const CliRun r = run("export '" + kf.string() + "' --from 70 --to 74 --format " + format + " --out '" + b.string() + "'", dir_);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(has(r.err, "re-simulating from the keyframe of tick 60")) << r.err;
+    const auto bytes = test::read_bytes(a);
+    EXPECT_GT(bytes.size(), 1000u);
+    EXPECT_EQ(bytes, test::read_bytes(b)) << format;
+  }
+}
+
 TEST_F(ReplayCli, ExportYawIsTheFacing) {
   // The facing of a client's entity is its last command's facing_rad; snapshots carry it unquantized
   // as entity_yaw. NPCs face where the AI turned them.
