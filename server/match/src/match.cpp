@@ -169,9 +169,6 @@ std::uint64_t Match::commands_accepted_total() const { return impl_->accepted_to
 const MatchConfig& Match::config() const { return impl_->config; }
 const World& Match::world() const { return impl_->world(); }
 void Match::save_checkpoint(std::vector<std::uint8_t>& out) const { impl_->save_checkpoint(out); }
-void Match::restore_checkpoint(std::span<const std::uint8_t> bytes) {
-  impl_->restore_checkpoint(bytes);
-  impl_->contacts_granted.clear();  // not in checkpoints: served again from the client's next command
-}
+void Match::restore_checkpoint(std::span<const std::uint8_t> bytes) { restore_checkpoint(bytes, RestoreOptions{}); }
 
 }  // namespace throng::match

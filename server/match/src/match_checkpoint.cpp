@@ -348,12 +348,9 @@ void restore_match(Impl& m, std::span<const std::uint8_t> bytes, RestoreOptions 
 
 }  // namespace
 
-void Match::Impl::restore_checkpoint(std::span<const std::uint8_t> bytes) { restore_match(*this, bytes, RestoreOptions{}); }
-
 void Match::restore_checkpoint(std::span<const std::uint8_t> bytes, RestoreOptions options) {
   restore_match(*impl_, bytes, options);
-  // As the one-argument overload (match.cpp) does: grants are not in checkpoints.
-  impl_->contacts_granted.clear();
+  impl_->contacts_granted.clear();  // not in checkpoints: served again from the client's next command
 }
 
 }  // namespace throng::match

@@ -71,7 +71,6 @@ struct Match::Impl {
 
   // --- checkpoints (match_checkpoint.cpp) ---------------------------------------------------------
   void save_checkpoint(std::vector<std::uint8_t>& out) const;
-  void restore_checkpoint(std::span<const std::uint8_t> bytes);
   void compute_checkpoint_hashes();
 
   MatchConfig config;
