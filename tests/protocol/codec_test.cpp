@@ -113,6 +113,44 @@ TEST(Codec, FirstIdZeroIsEscaped) {
   EXPECT_EQ(back[1].id, 3u);
 }
 
+TEST(Codec, EqualHeightsTravelAsOneSharedValue) {
+  // Two or more poses at one quantized height: z holds it once, and every pose decodes to it.
+  const std::vector<Pose> flat = {{3, 1.0, 2.0, 0.9004, 0.0}, {9, -1.0, 0.5, 0.9, 1.0}, {12, 0.0, 0.0, 0.8996, -1.0}};
+  Snapshot s;
+  ASSERT_TRUE(encode_poses(flat, 0, 0, 1, s));
+  ASSERT_EQ(s.z.size(), 1u);
+  EXPECT_EQ(s.z[0], 900);
+  std::vector<Pose> back;
+  decode_poses(s, back);
+  ASSERT_EQ(back.size(), 3u);
+  for (const Pose& p : back) EXPECT_DOUBLE_EQ(p.z, 0.9) << p.id;
+  EXPECT_DOUBLE_EQ(back[1].x, -1.0);
+
+  // One height differs: one z per pose, as before.
+  std::vector<Pose> mixed = flat;
+  mixed[2].z = 1.6;
+  ASSERT_TRUE(encode_poses(mixed, 0, 0, 1, s));
+  EXPECT_EQ(s.z.size(), 3u);
+  back.clear();
+  decode_poses(s, back);
+  EXPECT_DOUBLE_EQ(back[2].z, 1.6);
+
+  // A single pose has one z either way; no poses, no z.
+  ASSERT_TRUE(encode_poses(std::span<const Pose>(flat.data(), 1), 0, 0, 1, s));
+  EXPECT_EQ(s.z.size(), 1u);
+  ASSERT_TRUE(encode_poses({}, 0, 0, 1, s));
+  EXPECT_TRUE(s.z.empty());
+
+  // share_equal_heights is what encode_poses ends with.
+  Snapshot manual;
+  manual.z = {5, 5, 5, 5};
+  share_equal_heights(manual);
+  EXPECT_EQ(manual.z, std::vector<std::int16_t>{5});
+  manual.z = {5, 5, 6};
+  share_equal_heights(manual);
+  EXPECT_EQ(manual.z.size(), 3u);
+}
+
 TEST(Codec, DecodeRejectsMalformedSnapshots) {
   const Snapshot good = encoded({{10}, {20}, {30}});
   std::vector<Pose> out;
@@ -121,9 +159,20 @@ TEST(Codec, DecodeRejectsMalformedSnapshots) {
   lengths.yaw.pop_back();
   EXPECT_THROW(decode_poses(lengths, out), DecodeError);
 
-  Snapshot z_long = good;
-  z_long.z.push_back(0);
+  Snapshot z_long = good;  // three poses at one height: z is the one shared value
+  ASSERT_EQ(z_long.z.size(), 1u);
+  z_long.z.push_back(0);      // two heights for three poses
   EXPECT_THROW(decode_poses(z_long, out), DecodeError);
+  Snapshot z_four = good;
+  z_four.z.assign(4, 0);      // more heights than poses
+  EXPECT_THROW(decode_poses(z_four, out), DecodeError);
+  Snapshot z_none = good;
+  z_none.z.clear();           // no height for three poses
+  EXPECT_THROW(decode_poses(z_none, out), DecodeError);
+  Snapshot z_without_poses;   // a height with no poses
+  z_without_poses.unit_mm = 1;
+  z_without_poses.z = {0};
+  EXPECT_THROW(decode_poses(z_without_poses, out), DecodeError);
 
   Snapshot truncated_escape = good;
   truncated_escape.id_codes = {10, 10, 0, 1};  // the third pose's escape lacks its low half
@@ -216,15 +265,25 @@ TEST(Codec, WireBytesEqualsSerializedSizeOfTheDdsType) {
     }
   }
 
-  // The figure protocol/README.md quotes: 100 poses with ascending ids cost 96 + 9 * 100 bytes.
+  // The figures protocol/README.md quotes: 100 poses with ascending ids at different heights cost
+  // 96 + 9 * 100 bytes; on flat ground (one shared height) 96 + 7 * 100 + 4 (the shared z and the
+  // padding before yaw).
   std::vector<Pose> hundred;
-  for (std::uint32_t id = 1; id <= 100; ++id) hundred.push_back(Pose{id * 5, 0.5, -0.5, 0.0, 1.0});
+  for (std::uint32_t id = 1; id <= 100; ++id) hundred.push_back(Pose{id * 5, 0.5, -0.5, 0.001 * id, 1.0});
   Snapshot s;
   s.client_id = 7;
   ASSERT_TRUE(encode_poses(hundred, 0, 0, 1, s));
+  ASSERT_EQ(s.z.size(), 100u);
   const std::size_t wire = server.publish_snapshot(s);
   EXPECT_EQ(wire, 996u);
   ::testing::Test::RecordProperty("snapshot_100_poses_bytes", static_cast<int>(wire));
+  for (Pose& p : hundred) p.z = 0.9;
+  ASSERT_TRUE(encode_poses(hundred, 0, 0, 1, s));
+  ASSERT_EQ(s.z.size(), 1u);
+  const std::size_t flat = server.publish_snapshot(s);
+  EXPECT_EQ(flat, 800u);
+  EXPECT_EQ(flat, snapshot_wire_bytes(s));
+  ::testing::Test::RecordProperty("snapshot_100_flat_poses_bytes", static_cast<int>(flat));
 }
 
 }  // namespace

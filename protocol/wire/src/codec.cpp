@@ -69,12 +69,22 @@ bool encode_poses(std::span<const Pose> poses, std::int32_t origin_x_mm, std::in
     snap.z.push_back(*qz);
     snap.yaw.push_back(quantize_yaw(p.yaw));
   }
+  share_equal_heights(snap);
   return true;
+}
+
+void share_equal_heights(Snapshot& snap) {
+  const auto& z = snap.z;
+  if (z.size() < 2) return;
+  for (std::size_t i = 1; i < z.size(); ++i)
+    if (z[i] != z[0]) return;
+  snap.z.erase(snap.z.begin() + 1, snap.z.end());  // (resize(1) trips GCC 12's -Warray-bounds)
 }
 
 void decode_poses(const Snapshot& snap, std::vector<Pose>& out) {
   const std::size_t n = snap.x.size();
-  if (snap.y.size() != n || snap.z.size() != n || snap.yaw.size() != n)
+  const bool shared_z = n >= 1 && snap.z.size() == 1;  // one height for every pose
+  if (snap.y.size() != n || (snap.z.size() != n && !shared_z) || snap.yaw.size() != n)
     throw DecodeError("snapshot: pose arrays differ in length (x " + std::to_string(n) + ", y " +
                       std::to_string(snap.y.size()) + ", z " + std::to_string(snap.z.size()) + ", yaw " +
                       std::to_string(snap.yaw.size()) + ")");
@@ -97,7 +107,7 @@ void decode_poses(const Snapshot& snap, std::vector<Pose>& out) {
     previous = id;
     out.push_back(Pose{id, dequantize_offset(snap.x[i], snap.origin_x_mm, snap.unit_mm),
                        dequantize_offset(snap.y[i], snap.origin_y_mm, snap.unit_mm),
-                       dequantize_offset(snap.z[i], 0, snap.unit_mm), dequantize_yaw(snap.yaw[i])});
+                       dequantize_offset(snap.z[shared_z ? 0 : i], 0, snap.unit_mm), dequantize_yaw(snap.yaw[i])});
   }
   if (c != snap.id_codes.size()) throw DecodeError("snapshot: more id codes than poses");
 }

@@ -19,6 +19,7 @@ void Match::Impl::build_snapshots(std::uint64_t tick, Outbox& out) {
   const auto ids = clients.connected_ids();
   if (out.snapshots.size() < ids.size()) out.snapshots.resize(ids.size());
   for (auto& t : worker_totals) t = WorkerTotals{};
+  for (auto& sc : scratches) snapshots.reserve(sc);  // whichever worker gets a client: no allocation
 
   auto build_one = [&](unsigned worker, std::size_t k) {
     WorkerTotals& totals = worker_totals[worker];

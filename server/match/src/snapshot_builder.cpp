@@ -31,6 +31,8 @@
 //      poses: offsets (copy - origin) / unit, z / unit, the yaw byte; tests/match check it) and
 //      the client's copies updated; a pending removal of an id whose pose is sent again is
 //      dropped (the client applies removals before poses, so this snapshot is still right).
+//      Equal heights are then written as one shared z, as encode_poses does; phase 3 plans for it
+//      when every keyed candidate stands at one height (7 bytes a pose instead of 9).
 #include "throng/match/snapshot_builder.h"
 
 #include <algorithm>
@@ -79,7 +81,8 @@ constexpr std::uint32_t kHistBuckets = 1u << (64 - kHistShift);
 
 // XCDR1 size of a Snapshot with these sequence lengths: mirrors protocol::snapshot_wire_bytes
 // (checked against it in the constructor) so the budget can be planned without building samples.
-std::size_t wire_bytes(std::size_t id_codes, std::size_t poses, std::size_t removed) {
+// heights: poses, or 1 when they share one height (protocol::share_equal_heights).
+std::size_t wire_bytes(std::size_t id_codes, std::size_t poses, std::size_t removed, std::size_t heights) {
   std::size_t n = 0;
   auto align = [&](std::size_t a) { n = (n + a - 1) / a * a; };
   auto prim = [&](std::size_t s) {
@@ -106,7 +109,7 @@ std::size_t wire_bytes(std::size_t id_codes, std::size_t poses, std::size_t remo
   seq(id_codes, 2);
   seq(poses, 2);
   seq(poses, 2);
-  seq(poses, 2);
+  seq(heights, 2);
   seq(poses, 1);
   seq(removed, 4);
   return n + 4;
@@ -115,17 +118,18 @@ std::size_t wire_bytes(std::size_t id_codes, std::size_t poses, std::size_t remo
 void check_wire_mirror() {
   for (std::size_t codes = 0; codes < 5; ++codes)
     for (std::size_t poses = 0; poses < 5; ++poses)
-      for (std::size_t removed = 0; removed < 3; ++removed) {
-        protocol::Snapshot s;
-        s.id_codes.resize(codes);
-        s.x.resize(poses);
-        s.y.resize(poses);
-        s.z.resize(poses);
-        s.yaw.resize(poses);
-        s.removed.resize(removed);
-        if (protocol::snapshot_wire_bytes(s) != wire_bytes(codes, poses, removed))
-          throw std::logic_error("SnapshotBuilder: wire size model disagrees with protocol::snapshot_wire_bytes");
-      }
+      for (std::size_t removed = 0; removed < 3; ++removed)
+        for (const std::size_t heights : {poses, std::min<std::size_t>(poses, 1)}) {
+          protocol::Snapshot s;
+          s.id_codes.resize(codes);
+          s.x.resize(poses);
+          s.y.resize(poses);
+          s.z.resize(heights);
+          s.yaw.resize(poses);
+          s.removed.resize(removed);
+          if (protocol::snapshot_wire_bytes(s) != wire_bytes(codes, poses, removed, heights))
+            throw std::logic_error("SnapshotBuilder: wire size model disagrees with protocol::snapshot_wire_bytes");
+        }
 }
 
 // Id codes the encoder writes for one id after `previous` (1, or 3 for an escape).
@@ -413,6 +417,8 @@ void SnapshotBuilder::index(const BodyView& bodies, std::uint64_t tick) {
   }
   m.indexed = true;
 }
+
+void SnapshotBuilder::reserve(Scratch& scratch) const { scratch.impl_->reserve(impl_->grid.size()); }
 
 const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_x, double camera_y,
                                          protocol::Snapshot& out) {
@@ -768,19 +774,35 @@ const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_
   }
 
   // 3. Removals that fit, oldest first; each is listed in `repeat` snapshots in total.
+  // Flat: every keyed candidate has the same quantized height, so whatever is selected shares it
+  // and travels as one z (protocol::share_equal_heights): poses cost 7 bytes instead of 9, and the
+  // budget holds more of them. Otherwise the plan counts a z per pose (a selection that happens to
+  // share one height is still written shared, and is then smaller than planned).
+  bool flat = true;
+  if (budget > 0 && n_keys > 1) {
+    auto qz_of = [&](std::uint32_t slot) {
+      if (unit == 1) return gp[slot].z;
+      const double fz = std::clamp(round_half_even(gz[slot] * 1000.0 * inv_unit), -double(kMaxQ), double(kMaxQ));
+      return static_cast<std::int32_t>(fz) * unit;
+    };
+    const std::int32_t z0 = qz_of(kin[0].slot);
+    for (std::uint32_t i = 1; i < n_keys && flat; ++i) flat = qz_of(kin[i].slot) == z0;
+  }
+  auto heights = [flat](std::size_t poses) { return flat ? std::min<std::size_t>(poses, 1) : poses; };
   std::size_t n_removed = c.pending.size();
   std::size_t pose_cap = n_keys;
   if (budget > 0) {
-    const std::size_t base = wire_bytes(0, 0, 0);
+    const std::size_t base = wire_bytes(0, 0, 0, 0);
     if (budget < base) {
       n_removed = 0;
       pose_cap = 0;
     } else {
       n_removed = std::min(n_removed, (budget - base) / 4 + 1);
-      while (n_removed > 0 && wire_bytes(0, 0, n_removed) > budget) --n_removed;
-      const std::size_t with_removed = wire_bytes(0, 0, n_removed);
-      pose_cap = std::min(pose_cap, (budget - with_removed) / protocol::kPoseWireBytes + 1);
-      while (pose_cap > 0 && wire_bytes(pose_cap, pose_cap, n_removed) > budget) --pose_cap;
+      while (n_removed > 0 && wire_bytes(0, 0, n_removed, 0) > budget) --n_removed;
+      const std::size_t with_removed = wire_bytes(0, 0, n_removed, 0);
+      const std::size_t per_pose = flat ? protocol::kSharedZPoseWireBytes : protocol::kPoseWireBytes;
+      pose_cap = std::min(pose_cap, (budget - with_removed) / per_pose + 1);
+      while (pose_cap > 0 && wire_bytes(pose_cap, pose_cap, n_removed, heights(pose_cap)) > budget) --pose_cap;
     }
   }
   out.removed.resize(n_removed);
@@ -833,7 +855,7 @@ const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_
   };
   std::size_t codes = count_codes();
   if (budget > 0) {
-    while (n_sel > 0 && wire_bytes(codes, n_sel, n_removed) > budget) {
+    while (n_sel > 0 && wire_bytes(codes, n_sel, n_removed, heights(n_sel)) > budget) {
       // Drop the lowest priority (rare: only when id escapes did not fit), then recount.
       std::size_t lowest = 0;
       for (std::size_t j = 1; j < n_sel; ++j)
@@ -905,6 +927,7 @@ const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_
       err_max = std::max(err_max, e);
     }
   }
+  protocol::share_equal_heights(out);  // as protocol::encode_poses ends
   // A removal still pending for an id whose pose was just sent again would delete it on the
   // client later: drop it (if it was listed in this snapshot, the client applies the removal
   // before the poses).

@@ -40,7 +40,8 @@
 //    padding included; 0 = unlimited). Removals are listed first (4 bytes each; those that do not
 //    fit wait, so each id is still listed exactly removed_repeat times, unless the object's pose
 //    is sent again first: then the rest of its removal is dropped), the rest goes to poses
-//    (9 bytes, + 4 for an id escape). The size is computed exactly and checked after encoding.
+//    (9 bytes, 7 when all candidates share one height, + 4 for an id escape). The size is
+//    computed exactly and checked after encoding.
 //  - No allocation in index()/build() after warm-up (the world's largest index, the largest body
 //    count, the caller's reused Snapshot vectors and Scratch), except when the world grows.
 //
@@ -116,6 +117,12 @@ class SnapshotBuilder {
     struct Impl;
     std::unique_ptr<Impl> impl_;
   };
+
+  // Grows `scratch` to what a build() on the current index needs, so that the build itself does
+  // not allocate. Call it on the tick thread for every worker's scratch after index(): a worker
+  // that first gets a client late in the match (which worker builds which client depends on the
+  // threads) would otherwise allocate its working memory then.
+  void reserve(Scratch& scratch) const;
 
   // Fills out's origin/unit, pose arrays, removed and objects_in_view for this client (other
   // Snapshot fields are the caller's). Unknown client or a non-finite / > 1000 km camera
