@@ -6,6 +6,7 @@
 #   2. 200 bot clients against a 5,000-NPC battle for LOAD_S seconds (default 30): latency in ticks;
 #   3. ramp mode from RAMP_START (default 150) in steps of RAMP_STEP (default 25) up to RAMP_MAX
 #      (default 300), with a perf profile of the server over the last step when perf is installed.
+# The server writes its match log (keyframes included), as it does by default.
 # Run it on a quiet machine (no build running): timings measure the machine as much as the code.
 # Knobs (environment): BUILD (default build/release), DOMAIN (default 61), MATCH_S, LOAD_S,
 # RAMP_START, RAMP_STEP, RAMP_MAX, SKIP (comma-separated: match,load,ramp).
@@ -29,8 +30,8 @@ echo "measure-server: results in $out (load average now: $(cut -d' ' -f1-3 /proc
 run_match() {
   local name=$1 npcs=$2 bots=$3 secs=$4
   shift 4
-  "$BUILD/bin/throng-server" --domain "$DOMAIN" --npcs "$npcs" --duration $((secs + 40)) --admin-port -1 --no-log \
-    --summary-json "$out/$name-server.json" >"$out/$name-server.txt" 2>"$out/$name-server.log" &
+  "$BUILD/bin/throng-server" --domain "$DOMAIN" --npcs "$npcs" --duration $((secs + 40)) --admin-port -1 \
+    --log "$out/$name.tlog" --summary-json "$out/$name-server.json" >"$out/$name-server.txt" 2>"$out/$name-server.log" &
   local spid=$!
   "$BUILD/bin/throng-bots" --domain "$DOMAIN" --clients "$bots" --duration "$secs" --quiet \
     --json "$out/$name-bots.json" "$@" >"$out/$name-bots.txt" 2>"$out/$name-bots.log" || true
@@ -68,8 +69,8 @@ fi
 if [[ ",$SKIP," != *",ramp,"* ]]; then
   echo "=== 3. ramp ${RAMP_START} +${RAMP_STEP} .. ${RAMP_MAX} (5,000 NPCs)"
   steps=$(( (RAMP_MAX - RAMP_START) / RAMP_STEP + 1 ))
-  "$BUILD/bin/throng-server" --domain "$DOMAIN" --npcs 5000 --duration $((steps * 20 + 60)) --admin-port -1 --no-log \
-    --max-clients 4096 >"$out/ramp-server.txt" 2>"$out/ramp-server.log" &
+  "$BUILD/bin/throng-server" --domain "$DOMAIN" --npcs 5000 --duration $((steps * 20 + 60)) --admin-port -1 \
+    --log "$out/ramp.tlog" --max-clients 4096 >"$out/ramp-server.txt" 2>"$out/ramp-server.log" &
   spid=$!
   perf_pid=
   if command -v perf >/dev/null; then
