@@ -21,23 +21,6 @@ std::filesystem::path recorded_log(WriterOptions o = {}) {
   return path;
 }
 
-// Everything a snapshot carries, to compare two players' outboxes.
-void expect_same_snapshots(const match::Outbox& a, const match::Outbox& b) {
-  ASSERT_EQ(a.snapshot_count, b.snapshot_count);
-  for (std::size_t i = 0; i < a.snapshot_count; ++i) {
-    const auto &x = a.snapshots[i], &y = b.snapshots[i];
-    EXPECT_EQ(x.client_id, y.client_id);
-    EXPECT_EQ(x.tick, y.tick);
-    EXPECT_EQ(x.entity, y.entity);
-    EXPECT_EQ(x.id_codes, y.id_codes);
-    EXPECT_EQ(x.x, y.x);
-    EXPECT_EQ(x.y, y.y);
-    EXPECT_EQ(x.z, y.z);
-    EXPECT_EQ(x.yaw, y.yaw);
-    EXPECT_EQ(x.removed, y.removed);
-  }
-}
-
 TEST(LogPlayer, StepsThroughEveryTickWithTheLoggedHashes) {
   const auto& p = played();
   LogPlayer player(recorded_log().string());
@@ -96,7 +79,7 @@ TEST(LogPlayer, SeeksForwardAndBackwardToTheSameStateAsStepping) {
   ASSERT_TRUE(seeker.step());
   ASSERT_TRUE(stepper.step());
   EXPECT_TRUE(seeker.last_hash_matched());
-  expect_same_snapshots(seeker.outbox(), stepper.outbox());
+  test::expect_same_snapshots(seeker.outbox(), stepper.outbox());
   EXPECT_EQ(seeker.match().clients().size(), stepper.match().clients().size());
 
   // Clamped to the log.

@@ -314,4 +314,21 @@ inline void write_played(const std::filesystem::path& path, const std::vector<Ti
   w.close();
 }
 
+// Everything a snapshot carries, to compare two players' outboxes.
+inline void expect_same_snapshots(const match::Outbox& a, const match::Outbox& b) {
+  ASSERT_EQ(a.snapshot_count, b.snapshot_count);
+  for (std::size_t i = 0; i < a.snapshot_count; ++i) {
+    const auto &x = a.snapshots[i], &y = b.snapshots[i];
+    EXPECT_EQ(x.client_id, y.client_id);
+    EXPECT_EQ(x.tick, y.tick);
+    EXPECT_EQ(x.entity, y.entity);
+    EXPECT_EQ(x.id_codes, y.id_codes);
+    EXPECT_EQ(x.x, y.x);
+    EXPECT_EQ(x.y, y.y);
+    EXPECT_EQ(x.z, y.z);
+    EXPECT_EQ(x.yaw, y.yaw);
+    EXPECT_EQ(x.removed, y.removed);
+  }
+}
+
 }  // namespace throng::matchlog::test

@@ -74,6 +74,17 @@ class Cdp {
   int next_id_ = 1;
 };
 
+// A key press (keyDown with its text for a printable key, then keyUp), as a person typing it.
+inline void press_key(Cdp& cdp, const std::string& key, const std::string& code, int virtual_key) {
+  nlohmann::json e = {{"key", key}, {"code", code}, {"windowsVirtualKeyCode", virtual_key}, {"nativeVirtualKeyCode", virtual_key}};
+  e["type"] = "keyDown";
+  if (key.size() == 1) e["text"] = key;
+  cdp.call("Input.dispatchKeyEvent", e);
+  e.erase("text");
+  e["type"] = "keyUp";
+  cdp.call("Input.dispatchKeyEvent", e);
+}
+
 std::string base64_decode(const std::string& in);
 
 }  // namespace throng::view::testing

@@ -125,13 +125,7 @@ TEST(ViewE2E, PageDrawsTheMatchAndKeysMoveTheEntityOnTheServer) {
   std::printf("entity moved dx %.2f m, dy %.2f m while D was held for 1.5 s\n", dx, dy);
 
   // Collision shapes on (C), the mouse over the own character (the camera centre): its tooltip.
-  auto key_c = nlohmann::json{{"key", "c"}, {"code", "KeyC"}, {"windowsVirtualKeyCode", 67}, {"nativeVirtualKeyCode", 67}};
-  key_c["type"] = "keyDown";
-  key_c["text"] = "c";
-  cdp.call("Input.dispatchKeyEvent", key_c);
-  key_c.erase("text");
-  key_c["type"] = "keyUp";
-  cdp.call("Input.dispatchKeyEvent", key_c);
+  press_key(cdp, "c", "KeyC", 67);
   const auto size = cdp.evaluate("[innerWidth, innerHeight]");
   const double cx = size[0].get<double>() / 2, cy = size[1].get<double>() / 2;
   cdp.call("Input.dispatchMouseEvent", {{"type", "mouseMoved"}, {"x", cx}, {"y", cy}});
@@ -227,21 +221,13 @@ TEST(ViewE2E, PageDrawsTheMatchAndKeysMoveTheEntityOnTheServer) {
   EXPECT_EQ(png.substr(1, 3), "PNG");
 
   // C again: the overlay and the contacts request are off (frames carry no pairs any more).
-  key_c["type"] = "keyDown";
-  key_c["text"] = "c";
-  cdp.call("Input.dispatchKeyEvent", key_c);
-  key_c.erase("text");
-  key_c["type"] = "keyUp";
-  cdp.call("Input.dispatchKeyEvent", key_c);
+  press_key(cdp, "c", "KeyC", 67);
   EXPECT_TRUE(wait_until([&] { return (stats = cdp.evaluate(stats_js))["contacts"].is_null(); }, 5s)) << stats.dump();
   EXPECT_EQ(stats["show_shapes"], false);
 
   // F follows the character again; a drag pans the camera, and the gateway then sends the server
   // the panned camera (interest area).
-  const nlohmann::json key_f = {{"type", "keyDown"}, {"key", "f"}, {"code", "KeyF"}, {"text", "f"},
-                                {"windowsVirtualKeyCode", 70}, {"nativeVirtualKeyCode", 70}};
-  cdp.call("Input.dispatchKeyEvent", key_f);
-  cdp.call("Input.dispatchKeyEvent", {{"type", "keyUp"}, {"key", "f"}, {"code", "KeyF"}, {"windowsVirtualKeyCode", 70}, {"nativeVirtualKeyCode", 70}});
+  press_key(cdp, "f", "KeyF", 70);
   EXPECT_TRUE(wait_until([&] { return (stats = cdp.evaluate(stats_js))["panned"] == false; }, 5s));
   drag(cdp, cx, cy, -200.0, 0.0);
   // Dragging 200 px left moves the camera 200 px / zoom to the right of the character; the frames

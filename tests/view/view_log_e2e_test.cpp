@@ -29,16 +29,6 @@ using namespace testing;
 const std::string kView = THRONG_BIN_DIR "/throng-view";
 const std::string kStats = "window.throngView ? window.throngView.stats() : null";
 
-void key(Cdp& cdp, const std::string& k, const std::string& code, int vk) {
-  nlohmann::json e = {{"key", k}, {"code", code}, {"windowsVirtualKeyCode", vk}, {"nativeVirtualKeyCode", vk}};
-  e["type"] = "keyDown";
-  if (k.size() == 1) e["text"] = k;
-  cdp.call("Input.dispatchKeyEvent", e);
-  e.erase("text");
-  e["type"] = "keyUp";
-  cdp.call("Input.dispatchKeyEvent", e);
-}
-
 // Drags the timeline the way the page's range input reports it: input events, then change.
 void scrub(Cdp& cdp, std::uint64_t tick) {
   cdp.evaluate("(() => { const s = document.getElementById('scrub'); s.dispatchEvent(new Event('pointerdown'));"
@@ -126,7 +116,7 @@ TEST(ViewLogE2E, PlaysScrubsPausesAndChangesSpeed) {
   EXPECT_GT(cdp.evaluate("window.throngView.factionPixels()").get<int>(), 200) << "no faction-coloured pixels";
 
   // Space pauses: the tick stays still while frames keep coming (the heartbeat).
-  key(cdp, " ", "Space", 32);
+  press_key(cdp, " ", "Space", 32);
   ASSERT_TRUE(wait_until([&] { return (stats = cdp.evaluate(kStats))["replay"]["playing"] == false; }, 5s)) << stats.dump();
   std::this_thread::sleep_for(300ms);  // a frame already on its way may still land
   const std::uint64_t paused_at = page_tick(cdp);
@@ -151,8 +141,8 @@ TEST(ViewLogE2E, PlaysScrubsPausesAndChangesSpeed) {
   }
 
   // Movement keys send nothing in a replay (and the gateway reports no rejected input).
-  key(cdp, "d", "KeyD", 68);
-  key(cdp, "w", "KeyW", 87);
+  press_key(cdp, "d", "KeyD", 68);
+  press_key(cdp, "w", "KeyW", 87);
   std::this_thread::sleep_for(300ms);
   stats = cdp.evaluate(kStats);
   EXPECT_EQ(stats["sent"], 0) << "the page sent input in a replay";
@@ -162,7 +152,7 @@ TEST(ViewLogE2E, PlaysScrubsPausesAndChangesSpeed) {
   // Speed: the selector reaches the gateway (its timeline reports 4x) and playback goes on. How
   // fast 4x plays is asserted with an injected clock in LogController's unit tests; wall-clock
   // rates are only printed here, since a loaded CI machine can hold playback back.
-  key(cdp, " ", "Space", 32);
+  press_key(cdp, " ", "Space", 32);
   ASSERT_TRUE(wait_until([&] { return (stats = cdp.evaluate(kStats))["replay"]["playing"] == true; }, 5s));
   const std::uint64_t at_1x = ticks_over(cdp, 1500ms);
   cdp.evaluate("(() => { const s = document.getElementById('speed'); s.value = '4';"
@@ -173,7 +163,7 @@ TEST(ViewLogE2E, PlaysScrubsPausesAndChangesSpeed) {
               static_cast<unsigned long long>(at_4x));
   EXPECT_GT(at_1x, 0u);
   EXPECT_GT(at_4x, 0u) << "playback stopped after the speed change";
-  key(cdp, " ", "Space", 32);
+  press_key(cdp, " ", "Space", 32);
   ASSERT_TRUE(wait_until([&] { return (stats = cdp.evaluate(kStats))["replay"]["playing"] == false; }, 5s));
 
   // Click a character: the camera follows it and its parameters arrive with the frames.
@@ -227,7 +217,7 @@ TEST(ViewLogE2E, PlaysScrubsPausesAndChangesSpeed) {
 
   // C: collision shapes and contact planes. The viewer picks the pairs around the page's camera
   // (the followed character) from the re-simulated world: same pairs, same ratios as that world.
-  key(cdp, "c", "KeyC", 67);
+  press_key(cdp, "c", "KeyC", 67);
   nlohmann::json pairs;
   ASSERT_TRUE(wait_until(
       [&] {
@@ -269,7 +259,7 @@ TEST(ViewLogE2E, PlaysScrubsPausesAndChangesSpeed) {
       },
       5s))
       << stats.dump().substr(0, 800);
-    key(cdp, " ", "Space", 32);  // playing again for the screenshot
+    press_key(cdp, " ", "Space", 32);  // playing again for the screenshot
   std::this_thread::sleep_for(800ms);
 
   const std::string png = save_screenshot(cdp, "view_log_e2e.png", "view_log_screenshot.png");

@@ -121,13 +121,12 @@ struct MatchServer::Impl {
 // Must run before anything mutates the match (the save reads it).
 void MatchServer::Impl::finish_keyframe() {
   KeyframeSaver::Finished k;
-  const auto w0 = Clock::now();
   if (!keyframe_saver.finish(k)) return;
-  const auto w1 = Clock::now();
+  const auto a0 = Clock::now();
   log->append_keyframe_swap(k.tick, *k.bytes);  // O(1): buffers are swapped, not copied
   keyframe_save.add(k.save_seconds);
-  keyframe_wait.add(seconds_between(w0, w1));
-  keyframe_append.add(seconds_between(w1, Clock::now()));
+  keyframe_wait.add(k.waited_seconds);
+  keyframe_append.add(seconds_between(a0, Clock::now()));
 }
 
 // Once a second: the log writer never blocks the tick, so a slow disk shows up here, loudly.

@@ -497,20 +497,24 @@ const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_
   // The client's decoded position (mm) of slot s at this origin/unit; false if it does not fit.
   // At 1 mm this is the body's position rounded to a mm (a candidate within radius <= 32 m of an
   // origin at the camera always fits); coarser units round the exact value.
+  // The decoded height (mm) of slot s: absolute, clamped to the int16 range of the unit.
+  auto quantized_z = [&](std::uint32_t s) {
+    if (unit == 1) return gp[s].z;  // clamped in the index
+    const double fz = std::clamp(round_half_even(gz[s] * 1000.0 * inv_unit), -double(kMaxQ), double(kMaxQ));
+    return static_cast<std::int32_t>(fz) * unit;
+  };
   auto quantize = [&](std::uint32_t s, std::int32_t& qx, std::int32_t& qy, std::int32_t& qz) {
+    qz = quantized_z(s);
     if (unit == 1) {
       qx = gp[s].x;
       qy = gp[s].y;
-      qz = gp[s].z;  // clamped in the index
       const std::int64_t dx = static_cast<std::int64_t>(qx) - ox, dy = static_cast<std::int64_t>(qy) - oy;
       return dx >= -kMaxQ && dx <= kMaxQ && dy >= -kMaxQ && dy <= kMaxQ;
     }
     const double fx = round_half_even((gx[s] * 1000.0 - ox) * inv_unit);
     const double fy = round_half_even((gy[s] * 1000.0 - oy) * inv_unit);
-    const double fz = std::clamp(round_half_even(gz[s] * 1000.0 * inv_unit), -double(kMaxQ), double(kMaxQ));
     qx = static_cast<std::int32_t>(ox + static_cast<std::int64_t>(std::clamp(fx, -40000.0, 40000.0)) * unit);
     qy = static_cast<std::int32_t>(oy + static_cast<std::int64_t>(std::clamp(fy, -40000.0, 40000.0)) * unit);
-    qz = static_cast<std::int32_t>(fz) * unit;
     return std::fabs(fx) <= kMaxQ && std::fabs(fy) <= kMaxQ;
   };
   auto near_weight = [&](std::int64_t d2) {
@@ -780,13 +784,8 @@ const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_
   // share one height is still written shared, and is then smaller than planned).
   bool flat = true;
   if (budget > 0 && n_keys > 1) {
-    auto qz_of = [&](std::uint32_t slot) {
-      if (unit == 1) return gp[slot].z;
-      const double fz = std::clamp(round_half_even(gz[slot] * 1000.0 * inv_unit), -double(kMaxQ), double(kMaxQ));
-      return static_cast<std::int32_t>(fz) * unit;
-    };
-    const std::int32_t z0 = qz_of(kin[0].slot);
-    for (std::uint32_t i = 1; i < n_keys && flat; ++i) flat = qz_of(kin[i].slot) == z0;
+    const std::int32_t z0 = quantized_z(kin[0].slot);
+    for (std::uint32_t i = 1; i < n_keys && flat; ++i) flat = quantized_z(kin[i].slot) == z0;
   }
   auto heights = [flat](std::size_t poses) { return flat ? std::min<std::size_t>(poses, 1) : poses; };
   std::size_t n_removed = c.pending.size();
