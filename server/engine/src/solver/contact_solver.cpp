@@ -12,7 +12,7 @@ namespace {
 
 // Horizontal unit direction from a to b (or the coincident fallback).
 inline void pair_direction(const SolverBodies& b, const SolverPair& p, double& nx, double& ny) {
-  const double dx = b.x[p.b] - b.x[p.a], dy = b.y[p.b] - b.y[p.a];
+  const double dx = b.px(p.b) - b.px(p.a), dy = b.py(p.b) - b.py(p.a);
   const double d = std::sqrt(dx * dx + dy * dy);
   if (d > 1e-9 * (b.r[p.a] + b.r[p.b])) { nx = dx / d; ny = dy / d; }
   else coincident_direction(b.id[p.a], b.id[p.b], nx, ny);
@@ -34,9 +34,6 @@ inline double pinned_share(const SolverBodies& b, const std::vector<SolverPlane>
   return share_a;
 }
 
-// Warm-start pushes above this fraction of the smaller radius are cut back (see apply_warm_start).
-constexpr double kWarmStartCapOverRadius = 0.5;
-
 inline void warm_start_pair(SolverBodies& b, SolverPair& p, const std::vector<SolverPlane>& planes) {
   if (p.lambda == 0.0) return;
   // Last tick's push is a guess, not a fact: cap it so that a pair whose push kept being undone
@@ -47,27 +44,8 @@ inline void warm_start_pair(SolverBodies& b, SolverPair& p, const std::vector<So
   // Same split as the solve itself, including bodies pinned against fixed planes.
   const double move_a = p.lambda * pinned_share(b, planes, p, p.share_a);
   const double move_b = p.lambda - move_a;
-  b.x[p.a] -= nx * move_a; b.y[p.a] -= ny * move_a;
-  b.x[p.b] += nx * move_b; b.y[p.b] += ny * move_b;
-}
-
-// warm_start_pair for a fast pair of the schedule (no planes: the pinned share is the exact one,
-// which share_now still is before the first sweep). Same operations, same order.
-inline void warm_start_fast(const BodyPtrs& b, PairSchedule& s, std::uint32_t f) {
-  double lambda = s.lambda[f];
-  if (lambda == 0.0) return;
-  const std::uint32_t ia = s.a[f], ib = s.b[f];
-  lambda = std::min(lambda, kWarmStartCapOverRadius * std::min(b.r[ia], b.r[ib]));
-  s.lambda[f] = lambda;
-  const double dx = b.x[ib] - b.x[ia], dy = b.y[ib] - b.y[ia];
-  const double d = std::sqrt(dx * dx + dy * dy);
-  double nx, ny;
-  if (d > 1e-9 * (b.r[ia] + b.r[ib])) { nx = dx / d; ny = dy / d; }
-  else coincident_direction(b.id[ia], b.id[ib], nx, ny);
-  const double move_a = lambda * s.share_now[f];
-  const double move_b = lambda - move_a;
-  b.x[ia] -= nx * move_a; b.y[ia] -= ny * move_a;
-  b.x[ib] += nx * move_b; b.y[ib] += ny * move_b;
+  b.shift(p.a, -(nx * move_a), -(ny * move_a));
+  b.shift(p.b, nx * move_b, ny * move_b);
 }
 
 }  // namespace
@@ -85,15 +63,28 @@ void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, cons
   }
 }
 
-void measure_start_depths(const SolverBodies& b, std::vector<SolverPair>& pairs, std::vector<SolverPlane>& planes) {
-  for (SolverPair& p : pairs) {
-    const double dx = b.x[p.b] - b.x[p.a], dy = b.y[p.b] - b.y[p.a];
-    const double gap = std::max(0.0, std::fabs(b.z[p.b] - b.z[p.a]) - b.hh[p.a] - b.hh[p.b]);
-    p.depth_start = std::max(0.0, b.r[p.a] + b.r[p.b] - std::sqrt(dx * dx + dy * dy + gap * gap));
+double pair_depth(const SolverBodies& b, const SolverPair& p) {
+  const double dx = b.px(p.b) - b.px(p.a), dy = b.py(p.b) - b.py(p.a);
+  const double gap = std::max(0.0, std::fabs(b.z[p.b] - b.z[p.a]) - b.hh[p.a] - b.hh[p.b]);
+  return std::max(0.0, b.r[p.a] + b.r[p.b] - std::sqrt(dx * dx + dy * dy + gap * gap));
+}
+
+double fast_pair_start_depth(const SolverBodies& b, const SolverPair& p) {
+  const double dx = b.x[p.b] - b.x[p.a], dy = b.y[p.b] - b.y[p.a];
+  const double gap = std::max(0.0, std::fabs(b.z[p.b] - b.z[p.a]) - b.hh[p.a] - b.hh[p.b]);
+  return std::max(0.0, b.r[p.a] + b.r[p.b] - std::sqrt(dx * dx + dy * dy + gap * gap));
+}
+
+void measure_start_depths(const SolverBodies& b, std::vector<SolverPair>& pairs, std::vector<SolverPlane>& planes,
+                          const PairSchedule* schedule) {
+  if (schedule != nullptr) {
+    for (const std::uint32_t k : schedule->slow) pairs[k].depth_start = pair_depth(b, pairs[k]);
+  } else {
+    for (SolverPair& p : pairs) p.depth_start = pair_depth(b, p);
   }
   for (SolverPlane& pl : planes) {
     const std::uint32_t i = pl.body;
-    pl.depth_start = std::max(0.0, pl.offset - (pl.nx * b.x[i] + pl.ny * b.y[i] + pl.nz * b.z[i]));
+    pl.depth_start = std::max(0.0, pl.offset - (pl.nx * b.px(i) + pl.ny * b.py(i) + pl.nz * b.z[i]));
   }
 }
 
@@ -119,7 +110,7 @@ SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs,
     }
   };
   auto project_level = [&](const PairSchedule::Level& lv) {
-    worst = std::max(worst, project_fast_range(b, schedule, lv.fast_begin, lv.fast_end));
+    worst = std::max(worst, static_cast<double>(project_fast_range(b, schedule, lv.fast_begin, lv.fast_end)));
     for (std::uint32_t k = lv.slow_begin; k < lv.slow_end; ++k) project_slow(pairs[schedule.slow[k]]);
   };
   const std::size_t nl = schedule.levels.size();
@@ -142,10 +133,6 @@ SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs,
     if (worst <= converged) break;
   }
   if (scheduled) write_back_pair_schedule(schedule, pairs);
-  schedule.last_sweeps = result.iterations_used;
-  schedule.last_pairs = pairs.size();
-  schedule.last_pushing = 0;
-  for (const SolverPair& p : pairs) schedule.last_pushing += p.lambda > 0.0 ? 1 : 0;
   return result;
 }
 

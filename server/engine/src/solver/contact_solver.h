@@ -22,19 +22,31 @@ void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, cons
 void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
                       PairSchedule& schedule);
 
-// Building the schedule costs about two sweeps' worth of time, so a crowd that settled within one
-// sweep last tick (idle bodies, light contact) goes without one until it needs a second sweep.
-// Nor does a crowd where most candidate pairs are apart (battle: 5% pushing, street 20%): the
-// plain order skips those pairs in a few instructions and has few store-to-load chains, while the
-// two-lane kernel computes every pair (battle's solve was 26% more instructions with it).
-// Crush and mixed push in 77-82% of their pairs. Only a guess about speed: either path gives the
-// same bits.
-inline bool wants_schedule(const PairSchedule& schedule) {
-  return schedule.last_sweeps > 1 && 3 * schedule.last_pushing >= schedule.last_pairs;
+// Which of the two solves a tick gets (see solve_contacts). It changes the bits (the scheduled
+// solve carries displacements in float), so it is a function of the saved state only: the pair
+// count and how many pairs start with a warm-start push (last tick's pushes, kept in checkpoints),
+// never of timing or of what an earlier tick in this process happened to see.
+// Speed: building the schedule costs about two sweeps' worth of time, and a crowd where most
+// candidate pairs are apart (battle: 5% pushing, street 20%) is faster in pair order, where a
+// separated pair is skipped in a few instructions; crush and mixed push in 77-82% of their pairs.
+// Small scenes stay in the exact double-precision order (the patent examples are exact to 1e-12).
+inline constexpr std::size_t kMinScheduledPairs = 256;
+inline bool wants_schedule(std::size_t pair_count, std::size_t warm_pairs) {
+  return pair_count >= kMinScheduledPairs && 3 * warm_pairs >= pair_count;
 }
 
-// Records each pair's and plane's penetration at the start of the solve (for push events).
-void measure_start_depths(const SolverBodies& bodies, std::vector<SolverPair>& pairs, std::vector<SolverPlane>& planes);
+// Penetration of a pair at the bodies' current positions (3D distance of the core segments).
+double pair_depth(const SolverBodies& bodies, const SolverPair& pair);
+
+// Records each pair's and plane's penetration before the warm start (for push events). With a
+// schedule, only its slow pairs: a fast pair's start depth is still there after a scheduled solve
+// (fast_pair_start_depth), so it is computed only for the pairs that end up pushing.
+void measure_start_depths(const SolverBodies& bodies, std::vector<SolverPair>& pairs, std::vector<SolverPlane>& planes,
+                          const PairSchedule* schedule);
+
+// A fast pair's (is_fast_pair) depth at the start of a scheduled solve, read after it: the solve
+// moved only the displacements, and grounded bodies never change height.
+double fast_pair_start_depth(const SolverBodies& bodies, const SolverPair& pair);
 
 // Sweeps alternate direction (symmetric Gauss-Seidel): a sweep carries a push far along its own
 // order but only one contact against it, so alternating lets pressure travel both ways through a
@@ -42,9 +54,10 @@ void measure_start_depths(const SolverBodies& bodies, std::vector<SolverPair>& p
 // worse on the crush scene at 8 and 16 iterations: p99 0.115 vs 0.070 at K = 8.)
 // conflict_share_limit > 0 clamps the share of every push after a pair's first one in a tick into
 // [limit, 1 - limit] (see WorldSettings::conflict_share_limit); 0 keeps the exact share throughout.
-// The sweeps visit the pairs in the level order of pair_schedule.h (same result as the pairs' own
-// order, without the wait on each previous projection); `schedule` is reused scratch, already
-// built for these pairs if `scheduled`.
+// Unscheduled, the sweeps visit the pairs in their own order, moving the double positions. Scheduled
+// (`schedule` built for these pairs, bodies.displaced set), they visit the levels of
+// pair_schedule.h, which keep every body's pairs in their relative order without each projection
+// waiting for the previous one, and move the bodies' float displacements (SolverBodies::u).
 SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
                            std::uint32_t iterations, double converged_pen_over_radius, double conflict_share_limit,
                            PairSchedule& schedule, bool scheduled);

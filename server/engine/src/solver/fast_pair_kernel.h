@@ -1,12 +1,13 @@
 #pragma once
-// Projection of the fast pairs of one schedule level (pair_schedule.h): both bodies grounded,
-// neither touching fixed scenery, resolved in the ground plane at the pair's target distance.
+// Projection and warm start of the fast pairs of one schedule level (pair_schedule.h): both bodies
+// grounded, neither touching fixed scenery, resolved in the ground plane at the pair's target
+// distance. The grounded branch of project_pair (pair_projection.h), in single precision on the
+// bodies' displacements (SolverBodies::u), four pairs at a time in SSE.
 //
-// Bit-for-bit the same arithmetic as the grounded branch of project_pair (pair_projection.h), in
-// the same operation order, for every pair: the two-lane SSE2 path and the scalar path give the
-// same bits (IEEE add, mul, div and sqrt are correctly rounded on both; no FMA), so which path a
-// pair takes never changes the result. SSE2 is part of baseline x86-64; wider vectors (AVX2) would
-// need run-time dispatch and were not tried.
+// The four-lane path and the scalar path give the same bits (IEEE add, mul, div and sqrt are
+// correctly rounded in both, and there is no FMA), so which path a pair takes never changes the
+// result. SSE is part of baseline x86-64; wider vectors (AVX2) would need run-time dispatch and
+// were not tried. No reciprocal estimates (rcpps, rsqrtps): their bits differ between CPU vendors.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -21,114 +22,154 @@
 
 namespace throng::detail {
 
-// One fast pair, scalar. Returns the penetration before the projection over the smaller radius
-// (0 if separated). The ratio is taken with a stored reciprocal: it only steers the early exit
-// and StepStats, and a division per pair and sweep was a third of the divider's work.
-inline double project_fast_pair(const BodyPtrs& b, PairSchedule& s, std::uint32_t k) {
-  const std::uint32_t ia = s.a[k], ib = s.b[k];
-  const double dx = b.x[ib] - b.x[ia];
-  const double dy = b.y[ib] - b.y[ia];
-  const double target = s.target[k];
-  const double lambda = s.lambda[k];
-  const double d2 = dx * dx + dy * dy;
-  if (d2 >= target * target && lambda == 0.0) return 0.0;
-  const double dist = std::sqrt(d2);
-  const double pen = target - dist;
-  const double new_lambda = std::max(0.0, lambda + pen);
-  const double step = new_lambda - lambda;
-  s.lambda[k] = new_lambda;
-  double nx, ny;
-  if (dist > 1e-9 * target) {
-    const double inv = 1.0 / dist;
+// Unit direction from a to b of a fast pair whose separation is (dx, dy) at distance dist.
+inline void fast_direction(const BodyPtrs& b, std::uint32_t ia, std::uint32_t ib, float dx, float dy, float dist,
+                           float target, float& nx, float& ny) {
+  if (dist > 1e-9f * target) {
+    const float inv = 1.0f / dist;
     nx = dx * inv;
     ny = dy * inv;
   } else {
-    coincident_direction(b.id[ia], b.id[ib], nx, ny);
+    double cx, cy;
+    coincident_direction(b.id[ia], b.id[ib], cx, cy);
+    nx = static_cast<float>(cx);
+    ny = static_cast<float>(cy);
   }
-  const double move_a = step * s.share_now[k];
-  const double move_b = step - move_a;
-  b.x[ia] -= nx * move_a; b.y[ia] -= ny * move_a;
-  b.x[ib] += nx * move_b; b.y[ib] += ny * move_b;
-  if (pen > 0.0) {
+}
+
+// One fast pair, scalar. Returns the penetration before the projection over the smaller radius
+// (0 if separated). The ratio is taken with a stored reciprocal: it only steers the early exit
+// and StepStats.
+inline float project_fast_pair(const BodyPtrs& b, PairSchedule& s, std::uint32_t k) {
+  const std::uint32_t ia = s.a[k], ib = s.b[k];
+  float* const u = b.u;
+  const float dx = s.sx[k] + (u[2 * ib] - u[2 * ia]);
+  const float dy = s.sy[k] + (u[2 * ib + 1] - u[2 * ia + 1]);
+  const float target = s.target[k];
+  const float lambda = s.lambda[k];
+  const float d2 = dx * dx + dy * dy;
+  if (d2 >= target * target && lambda == 0.0f) return 0.0f;
+  const float dist = std::sqrt(d2);
+  const float pen = target - dist;
+  const float new_lambda = std::max(0.0f, lambda + pen);
+  const float step = new_lambda - lambda;
+  s.lambda[k] = new_lambda;
+  float nx, ny;
+  fast_direction(b, ia, ib, dx, dy, dist, target, nx, ny);
+  const float move_a = step * s.share_now[k];
+  const float move_b = step - move_a;
+  u[2 * ia] -= nx * move_a; u[2 * ia + 1] -= ny * move_a;
+  u[2 * ib] += nx * move_b; u[2 * ib + 1] += ny * move_b;
+  if (pen > 0.0f) {
     s.share_now[k] = std::clamp(s.share_now[k], s.conflict_lo, s.conflict_hi);
     return pen * s.inv_r_min[k];
   }
-  return 0.0;
+  return 0.0f;
 }
 
 // Projects fast pairs [begin, end) of one level (they share no body). Returns the largest
 // penetration over the smaller radius seen before projecting.
-inline double project_fast_range(const BodyPtrs& b, PairSchedule& s, std::uint32_t begin, std::uint32_t end) {
-  double worst = 0.0;
+inline float project_fast_range(const BodyPtrs& b, PairSchedule& s, std::uint32_t begin, std::uint32_t end) {
+  float worst = 0.0f;
   std::uint32_t k = begin;
 #if defined(__SSE2__)
   // Plain local pointers, so that stores through them need not reload the vectors' members.
-  double* const x = b.x;
-  double* const y = b.y;
+  float* const u = b.u;
   const std::uint32_t* const ia = s.a.data();
   const std::uint32_t* const ib = s.b.data();
-  const double* const target_p = s.target.data();
-  double* const lambda_p = s.lambda.data();
-  double* const share_p = s.share_now.data();
-  const double* const inv_r_min_p = s.inv_r_min.data();
-  const __m128d zero = _mm_setzero_pd();
-  const __m128d eps = _mm_set1_pd(1e-9);
-  const __m128d one = _mm_set1_pd(1.0);
-  const __m128d conflict_lo = _mm_set1_pd(s.conflict_lo), conflict_hi = _mm_set1_pd(s.conflict_hi);
-  __m128d worst2 = zero;
-  for (; k + 2 <= end; k += 2) {
-    const std::uint32_t a0 = ia[k], a1 = ia[k + 1], b0 = ib[k], b1 = ib[k + 1];
-    const __m128d xa = _mm_set_pd(x[a1], x[a0]), ya = _mm_set_pd(y[a1], y[a0]);
-    const __m128d xb = _mm_set_pd(x[b1], x[b0]), yb = _mm_set_pd(y[b1], y[b0]);
-    const __m128d dx = _mm_sub_pd(xb, xa), dy = _mm_sub_pd(yb, ya);
-    const __m128d d2 = _mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy));
-    const __m128d target = _mm_loadu_pd(target_p + k);
-    const __m128d lambda = _mm_loadu_pd(lambda_p + k);
+  const float* const sx_p = s.sx.data();
+  const float* const sy_p = s.sy.data();
+  const float* const target_p = s.target.data();
+  float* const lambda_p = s.lambda.data();
+  float* const share_p = s.share_now.data();
+  const float* const inv_r_min_p = s.inv_r_min.data();
+  const __m128 zero = _mm_setzero_ps();
+  const __m128 eps = _mm_set1_ps(1e-9f);
+  const __m128 one = _mm_set1_ps(1.0f);
+  const __m128 conflict_lo = _mm_set1_ps(s.conflict_lo), conflict_hi = _mm_set1_ps(s.conflict_hi);
+  __m128 worst4 = zero;
+  // A body's (x, y) displacement is one 8-byte load or store (__m64 is declared may_alias).
+  auto load_xy = [u](std::uint32_t i0, std::uint32_t i1) {
+    return _mm_loadh_pi(_mm_loadl_pi(_mm_setzero_ps(), reinterpret_cast<const __m64*>(u + 2 * i0)),
+                        reinterpret_cast<const __m64*>(u + 2 * i1));
+  };
+  auto store_xy = [u](std::uint32_t i0, std::uint32_t i1, __m128 v) {
+    _mm_storel_pi(reinterpret_cast<__m64*>(u + 2 * i0), v);
+    _mm_storeh_pi(reinterpret_cast<__m64*>(u + 2 * i1), v);
+  };
+  for (; k + 4 <= end; k += 4) {
+    const std::uint32_t a0 = ia[k], a1 = ia[k + 1], a2 = ia[k + 2], a3 = ia[k + 3];
+    const std::uint32_t b0 = ib[k], b1 = ib[k + 1], b2 = ib[k + 2], b3 = ib[k + 3];
+    const __m128 a01 = load_xy(a0, a1), a23 = load_xy(a2, a3);
+    const __m128 b01 = load_xy(b0, b1), b23 = load_xy(b2, b3);
+    const __m128 ax = _mm_shuffle_ps(a01, a23, _MM_SHUFFLE(2, 0, 2, 0));
+    const __m128 ay = _mm_shuffle_ps(a01, a23, _MM_SHUFFLE(3, 1, 3, 1));
+    const __m128 bx = _mm_shuffle_ps(b01, b23, _MM_SHUFFLE(2, 0, 2, 0));
+    const __m128 by = _mm_shuffle_ps(b01, b23, _MM_SHUFFLE(3, 1, 3, 1));
+    const __m128 dx = _mm_add_ps(_mm_loadu_ps(sx_p + k), _mm_sub_ps(bx, ax));
+    const __m128 dy = _mm_add_ps(_mm_loadu_ps(sy_p + k), _mm_sub_ps(by, ay));
+    const __m128 d2 = _mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy));
+    const __m128 target = _mm_loadu_ps(target_p + k);
+    const __m128 lambda = _mm_loadu_ps(lambda_p + k);
     // Lanes the scalar path returns from early: separated with nothing to take back.
-    const __m128d skip = _mm_and_pd(_mm_cmpge_pd(d2, _mm_mul_pd(target, target)), _mm_cmpeq_pd(lambda, zero));
-    const int skip_bits = _mm_movemask_pd(skip);
-    const __m128d dist = _mm_sqrt_pd(d2);
-    // Coincident cores need the id-derived direction: leave both lanes to the scalar path.
-    const __m128d apart = _mm_cmpgt_pd(dist, _mm_mul_pd(eps, target));
-    if ((_mm_movemask_pd(apart) | skip_bits) != 3) {
-      worst = std::max(worst, project_fast_pair(b, s, k));
-      worst = std::max(worst, project_fast_pair(b, s, k + 1));
+    const __m128 skip = _mm_and_ps(_mm_cmpge_ps(d2, _mm_mul_ps(target, target)), _mm_cmpeq_ps(lambda, zero));
+    const int skip_bits = _mm_movemask_ps(skip);
+    if (skip_bits == 15) continue;
+    const __m128 dist = _mm_sqrt_ps(d2);
+    // Coincident cores need the id-derived direction: leave the four lanes to the scalar path.
+    const __m128 apart = _mm_cmpgt_ps(dist, _mm_mul_ps(eps, target));
+    if ((_mm_movemask_ps(apart) | skip_bits) != 15) {
+      for (std::uint32_t q = 0; q < 4; ++q) worst = std::max(worst, project_fast_pair(b, s, k + q));
       continue;
     }
-    const __m128d pen = _mm_sub_pd(target, dist);
-    const __m128d new_lambda = _mm_max_pd(_mm_add_pd(lambda, pen), zero);  // std::max(0.0, v)
-    const __m128d step = _mm_sub_pd(new_lambda, lambda);
-    const __m128d inv = _mm_div_pd(one, dist);
-    const __m128d nx = _mm_mul_pd(dx, inv), ny = _mm_mul_pd(dy, inv);
-    const __m128d share = _mm_loadu_pd(share_p + k);
-    const __m128d move_a = _mm_mul_pd(step, share);
-    const __m128d move_b = _mm_sub_pd(step, move_a);
-    // Skipped lanes keep every value they had (a select, not an add of zero: -0.0 stays -0.0).
-    auto keep = [&](__m128d old_v, __m128d new_v) {
-      return _mm_or_pd(_mm_and_pd(skip, old_v), _mm_andnot_pd(skip, new_v));
-    };
-    const __m128d xa2 = keep(xa, _mm_sub_pd(xa, _mm_mul_pd(nx, move_a)));
-    const __m128d ya2 = keep(ya, _mm_sub_pd(ya, _mm_mul_pd(ny, move_a)));
-    const __m128d xb2 = keep(xb, _mm_add_pd(xb, _mm_mul_pd(nx, move_b)));
-    const __m128d yb2 = keep(yb, _mm_add_pd(yb, _mm_mul_pd(ny, move_b)));
-    _mm_storel_pd(x + a0, xa2); _mm_storeh_pd(x + a1, xa2);
-    _mm_storel_pd(y + a0, ya2); _mm_storeh_pd(y + a1, ya2);
-    _mm_storel_pd(x + b0, xb2); _mm_storeh_pd(x + b1, xb2);
-    _mm_storel_pd(y + b0, yb2); _mm_storeh_pd(y + b1, yb2);
-    _mm_storeu_pd(lambda_p + k, keep(lambda, new_lambda));
+    const __m128 pen = _mm_sub_ps(target, dist);
+    const __m128 new_lambda = _mm_max_ps(_mm_add_ps(lambda, pen), zero);  // std::max(0.0f, v)
+    // Skipped lanes move by exactly zero and keep their lambda (a select: the scalar path never
+    // touches them).
+    const __m128 step = _mm_andnot_ps(skip, _mm_sub_ps(new_lambda, lambda));
+    const __m128 inv = _mm_div_ps(one, dist);
+    const __m128 nx = _mm_mul_ps(dx, inv), ny = _mm_mul_ps(dy, inv);
+    const __m128 share = _mm_loadu_ps(share_p + k);
+    const __m128 move_a = _mm_mul_ps(step, share);
+    const __m128 move_b = _mm_sub_ps(step, move_a);
+    const __m128 ax2 = _mm_sub_ps(ax, _mm_mul_ps(nx, move_a)), ay2 = _mm_sub_ps(ay, _mm_mul_ps(ny, move_a));
+    const __m128 bx2 = _mm_add_ps(bx, _mm_mul_ps(nx, move_b)), by2 = _mm_add_ps(by, _mm_mul_ps(ny, move_b));
+    const __m128 a01n = _mm_unpacklo_ps(ax2, ay2), a23n = _mm_unpackhi_ps(ax2, ay2);
+    const __m128 b01n = _mm_unpacklo_ps(bx2, by2), b23n = _mm_unpackhi_ps(bx2, by2);
+    store_xy(a0, a1, a01n); store_xy(a2, a3, a23n);
+    store_xy(b0, b1, b01n); store_xy(b2, b3, b23n);
+    _mm_storeu_ps(lambda_p + k, _mm_or_ps(_mm_and_ps(skip, lambda), _mm_andnot_ps(skip, new_lambda)));
     // Branch-free from here: whether a lane pushed is data-dependent and mispredicts often.
-    const __m128d pushed = _mm_andnot_pd(skip, _mm_cmpgt_pd(pen, zero));
+    const __m128 pushed = _mm_andnot_ps(skip, _mm_cmpgt_ps(pen, zero));
     // std::clamp(share, lo, hi), operand order chosen so that ties and bounds give the same bits.
-    const __m128d conflict = _mm_max_pd(_mm_min_pd(share, conflict_hi), conflict_lo);
-    _mm_storeu_pd(share_p + k, _mm_or_pd(_mm_and_pd(pushed, conflict), _mm_andnot_pd(pushed, share)));
-    worst2 = _mm_max_pd(worst2, _mm_mul_pd(_mm_and_pd(pushed, pen), _mm_loadu_pd(inv_r_min_p + k)));
+    const __m128 conflict = _mm_max_ps(_mm_min_ps(share, conflict_hi), conflict_lo);
+    _mm_storeu_ps(share_p + k, _mm_or_ps(_mm_and_ps(pushed, conflict), _mm_andnot_ps(pushed, share)));
+    worst4 = _mm_max_ps(worst4, _mm_mul_ps(_mm_and_ps(pushed, pen), _mm_loadu_ps(inv_r_min_p + k)));
   }
-  double lanes[2];
-  _mm_storeu_pd(lanes, worst2);
-  worst = std::max(worst, std::max(lanes[0], lanes[1]));
+  float lanes[4];
+  _mm_storeu_ps(lanes, worst4);
+  worst = std::max({worst, lanes[0], lanes[1], lanes[2], lanes[3]});
 #endif
   for (; k < end; ++k) worst = std::max(worst, project_fast_pair(b, s, k));
   return worst;
+}
+
+// Applies a fast pair's warm-start push (its lambda, already capped when the schedule was built)
+// along the current direction, at the pair's exact share (nothing has pushed it yet this tick).
+inline void warm_start_fast(const BodyPtrs& b, const PairSchedule& s, std::uint32_t f) {
+  const float lambda = s.lambda[f];
+  if (lambda == 0.0f) return;
+  const std::uint32_t ia = s.a[f], ib = s.b[f];
+  float* const u = b.u;
+  const float dx = s.sx[f] + (u[2 * ib] - u[2 * ia]);
+  const float dy = s.sy[f] + (u[2 * ib + 1] - u[2 * ia + 1]);
+  const float dist = std::sqrt(dx * dx + dy * dy);
+  float nx, ny;
+  fast_direction(b, ia, ib, dx, dy, dist, s.target[f], nx, ny);
+  const float move_a = lambda * s.share_now[f];
+  const float move_b = lambda - move_a;
+  u[2 * ia] -= nx * move_a; u[2 * ia + 1] -= ny * move_a;
+  u[2 * ib] += nx * move_b; u[2 * ib + 1] += ny * move_b;
 }
 
 }  // namespace throng::detail

@@ -34,8 +34,8 @@ inline void coincident_direction(std::uint32_t id_a, std::uint32_t id_b, double&
 // separately from p.share_a because a body pinned against a fixed plane takes no share this time.
 inline double project_pair(const BodyPtrs& b, SolverPair& p, double share_a) {
   const std::uint32_t ia = p.a, ib = p.b;
-  const double dx = b.x[ib] - b.x[ia];
-  const double dy = b.y[ib] - b.y[ia];
+  const double dx = b.px(ib) - b.px(ia);
+  const double dy = b.py(ib) - b.py(ia);
   if (p.target >= 0.0) {
     const double d2 = dx * dx + dy * dy;
     if (d2 >= p.target * p.target && p.lambda == 0.0) return 0.0;
@@ -54,8 +54,8 @@ inline double project_pair(const BodyPtrs& b, SolverPair& p, double share_a) {
     }
     const double move_a = step * share_a;
     const double move_b = step - move_a;
-    b.x[ia] -= nx * move_a; b.y[ia] -= ny * move_a;
-    b.x[ib] += nx * move_b; b.y[ib] += ny * move_b;
+    b.shift(ia, -(nx * move_a), -(ny * move_a));
+    b.shift(ib, nx * move_b, ny * move_b);
     return pen > 0.0 ? pen : 0.0;
   }
   const double rsum = b.r[ia] + b.r[ib];
@@ -75,9 +75,9 @@ inline double project_pair(const BodyPtrs& b, SolverPair& p, double share_a) {
   const double move_a = step * share_a;
   const double move_b = step - move_a;
   // A grounded body cannot leave its support: it keeps only the horizontal part of its push.
-  b.x[ia] -= nx * move_a; b.y[ia] -= ny * move_a;
+  b.shift(ia, -(nx * move_a), -(ny * move_a));
   if (!b.grounded[ia]) b.z[ia] -= nz * move_a;
-  b.x[ib] += nx * move_b; b.y[ib] += ny * move_b;
+  b.shift(ib, nx * move_b, ny * move_b);
   if (!b.grounded[ib]) b.z[ib] += nz * move_b;
   return pen > 0.0 ? pen : 0.0;
 }

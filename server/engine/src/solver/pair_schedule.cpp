@@ -12,7 +12,6 @@ void build_pair_schedule(const SolverBodies& bodies, const std::vector<SolverPai
   s.fast_count.clear();
   s.slow_count.clear();
   std::uint32_t fast_total = 0;
-  const std::uint32_t* plane_count = bodies.plane_count.data();
   // Level of each pair, with the fast/slow split in the top bit; counts per level.
   constexpr std::uint32_t kSlow = 0x80000000u;
   std::uint32_t chunk_base = 0;  // first level of the current chunk
@@ -25,7 +24,7 @@ void build_pair_schedule(const SolverBodies& bodies, const std::vector<SolverPai
       s.fast_count.push_back(0);
       s.slow_count.push_back(0);
     }
-    const bool fast = p.target >= 0.0 && (plane_count[p.a] | plane_count[p.b]) == 0;
+    const bool fast = is_fast_pair(bodies, p);
     if (fast) {
       ++s.fast_count[lv];
       ++fast_total;
@@ -54,27 +53,33 @@ void build_pair_schedule(const SolverBodies& bodies, const std::vector<SolverPai
     if (lv & kSlow) s.slow[s.slow_count[lv & ~kSlow]++] = static_cast<std::uint32_t>(k);
     else s.src[s.fast_count[lv]++] = static_cast<std::uint32_t>(k);
   }
-  s.a.resize(fast_total); s.b.resize(fast_total); s.target.resize(fast_total);
-  s.share_now.resize(fast_total); s.lambda.resize(fast_total);
+  s.a.resize(fast_total); s.b.resize(fast_total); s.sx.resize(fast_total); s.sy.resize(fast_total);
+  s.target.resize(fast_total); s.share_now.resize(fast_total); s.lambda.resize(fast_total);
   s.inv_r_min.resize(fast_total);
+  const double* x = bodies.x.data();
+  const double* y = bodies.y.data();
   const double* r = bodies.r.data();
   // Shares are in [0, 1], so [0, 1] leaves them exact when the limit is off.
-  s.conflict_lo = conflict_limit > 0.0 ? conflict_limit : 0.0;
-  s.conflict_hi = conflict_limit > 0.0 ? 1.0 - conflict_limit : 1.0;
+  s.conflict_lo = conflict_limit > 0.0 ? static_cast<float>(conflict_limit) : 0.0f;
+  s.conflict_hi = conflict_limit > 0.0 ? static_cast<float>(1.0 - conflict_limit) : 1.0f;
   for (std::uint32_t f = 0; f < fast_total; ++f) {
     const SolverPair& p = pairs[s.src[f]];
     s.a[f] = p.a;
     s.b[f] = p.b;
-    s.target[f] = p.target;
+    s.sx[f] = static_cast<float>(x[p.b] - x[p.a]);
+    s.sy[f] = static_cast<float>(y[p.b] - y[p.a]);
+    s.target[f] = static_cast<float>(p.target);
     // The same share the general projection would pick (contact_solver.cpp).
-    s.share_now[f] = p.resolved_once != 0 ? std::clamp(p.share_a, s.conflict_lo, s.conflict_hi) : p.share_a;
-    s.lambda[f] = p.lambda;
-    s.inv_r_min[f] = 1.0 / std::min(r[p.a], r[p.b]);
+    const float share = static_cast<float>(p.share_a);
+    s.share_now[f] = p.resolved_once != 0 ? std::clamp(share, s.conflict_lo, s.conflict_hi) : share;
+    const double r_min = std::min(r[p.a], r[p.b]);
+    s.lambda[f] = static_cast<float>(std::min(p.lambda, kWarmStartCapOverRadius * r_min));
+    s.inv_r_min[f] = static_cast<float>(1.0 / r_min);
   }
 }
 
 void write_back_pair_schedule(const PairSchedule& s, std::vector<SolverPair>& pairs) {
-  for (std::size_t f = 0; f < s.fast_size(); ++f) pairs[s.src[f]].lambda = s.lambda[f];
+  for (std::size_t f = 0; f < s.fast_size(); ++f) pairs[s.src[f]].lambda = static_cast<double>(s.lambda[f]);
 }
 
 }  // namespace throng::detail

@@ -35,6 +35,10 @@ namespace throng::detail {
 // broadphase order 30.7 next to it).
 inline constexpr std::size_t kScheduleChunkPairs = 4096;
 
+// Warm-start pushes above this fraction of the smaller radius are cut back (see apply_warm_start
+// in contact_solver.cpp).
+inline constexpr double kWarmStartCapOverRadius = 0.5;
+
 struct PairSchedule {
   struct Level {
     std::uint32_t fast_begin, fast_end;  // range in the fast arrays
@@ -42,26 +46,25 @@ struct PairSchedule {
   };
   std::vector<Level> levels;
 
-  // Fast pairs in level order.
+  // Fast pairs in level order, in single precision (see SolverBodies::u): the kernel reads a
+  // pair's separation as its start separation (x_b - x_a at the start of the solve, exact to
+  // float's 24 bits whatever the distance from the origin) plus the two bodies' displacements.
   std::vector<std::uint32_t> a, b;
-  std::vector<double> target;
+  std::vector<float> sx, sy;
+  std::vector<float> target;
   // Share of the next push: exact until the pair's first push, then the conflict share. This is
   // also the fast pairs' only record of SolverPair::resolved_once, which nothing reads after the
   // solve, so it is not copied back.
-  std::vector<double> share_now;
+  std::vector<float> share_now;
   // The conflict share is std::clamp(exact share, lo, hi); clamping is idempotent, so clamping
   // share_now again after later pushes changes nothing. [0, 1] when the limit is off.
-  double conflict_lo = 0.0, conflict_hi = 1.0;
-  std::vector<double> lambda;
-  std::vector<double> inv_r_min;       // 1 / smaller radius
+  float conflict_lo = 0.0f, conflict_hi = 1.0f;
+  // Accumulated push; on entry last tick's, already cut to the warm-start cap.
+  std::vector<float> lambda;
+  std::vector<float> inv_r_min;        // 1 / smaller radius
   std::vector<std::uint32_t> src;      // index in the caller's pair list
 
   std::vector<std::uint32_t> slow;     // other pairs in level order: indices in the caller's list
-
-  // What the last solve saw, a hint for whether the next one is worth a schedule (speed only):
-  // sweeps used, and pairs still pushing apart at its end out of all pairs.
-  std::uint32_t last_sweeps = 0;
-  std::size_t last_pushing = 0, last_pairs = 0;
 
   // Scratch.
   std::vector<std::uint32_t> next_level;  // per body: the first level its next pair may take
@@ -71,7 +74,13 @@ struct PairSchedule {
   std::size_t fast_size() const { return a.size(); }
 };
 
-// Builds the schedule of `pairs` (fast copies take the pairs' current lambda and share).
+// Both bodies grounded, neither touching fixed scenery: the kernel's pairs (fast_pair_kernel.h).
+inline bool is_fast_pair(const SolverBodies& bodies, const SolverPair& p) {
+  return p.target >= 0.0 && (bodies.plane_count[p.a] | bodies.plane_count[p.b]) == 0;
+}
+
+// Builds the schedule of `pairs` (fast copies take the pairs' current lambda, cut to the warm-start
+// cap, and share). Bodies' u must be zero (the start of the solve).
 void build_pair_schedule(const SolverBodies& bodies, const std::vector<SolverPair>& pairs, double conflict_limit,
                          PairSchedule& s);
 

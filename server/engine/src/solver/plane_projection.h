@@ -20,7 +20,7 @@ inline bool is_pinned(const SolverBodies& b, const std::vector<SolverPlane>& pla
   for (std::uint32_t k = b.plane_begin[i]; k < end; ++k) {
     const SolverPlane& pl = planes[k];
     if (pl.nx * dx + pl.ny * dy > -0.5) continue;  // push does not go into this plane
-    const double slack = pl.nx * b.x[i] + pl.ny * b.y[i] + pl.nz * b.z[i] - pl.offset;
+    const double slack = pl.nx * b.px(i) + pl.ny * b.py(i) + pl.nz * b.z[i] - pl.offset;
     if (slack <= kPinnedSlackOverRadius * b.r[i]) return true;
   }
   return false;
@@ -35,7 +35,7 @@ inline double project_planes(SolverBodies& b, const std::vector<SolverPlane>& pl
     bool moved = false;
     for (std::uint32_t k = b.plane_begin[i]; k < end; ++k) {
       const SolverPlane& pl = planes[k];
-      const double s = pl.nx * b.x[i] + pl.ny * b.y[i] + pl.nz * b.z[i] - pl.offset;
+      const double s = pl.nx * b.px(i) + pl.ny * b.py(i) + pl.nz * b.z[i] - pl.offset;
       if (s >= 0.0) continue;
       if (pass == 0) worst = std::max(worst, -s);
       if (b.grounded[i]) {
@@ -43,9 +43,10 @@ inline double project_planes(SolverBodies& b, const std::vector<SolverPlane>& pl
         const double h2 = pl.nx * pl.nx + pl.ny * pl.ny;
         if (h2 < 0.09) continue;
         const double t = -s / h2;
-        b.x[i] += pl.nx * t; b.y[i] += pl.ny * t;
+        b.shift(i, pl.nx * t, pl.ny * t);
       } else {
-        b.x[i] -= pl.nx * s; b.y[i] -= pl.ny * s; b.z[i] -= pl.nz * s;
+        b.shift(i, -(pl.nx * s), -(pl.ny * s));
+        b.z[i] -= pl.nz * s;
       }
       moved = true;
     }

@@ -10,16 +10,41 @@
 namespace throng::detail {
 
 struct SolverBodies {
-  std::vector<double> x, y, z, r, hh;
+  // Positions; in a scheduled solve the positions at its start (see u below).
+  std::vector<double> x, y;
+  std::vector<double> z, r, hh;  // z is written directly by airborne pairs and planes
   std::vector<std::uint8_t> grounded;
   std::vector<std::uint32_t> plane_begin, plane_count;  // range in SolverPlanes
   std::vector<std::uint32_t> id;                        // ObjectId value (tie-breaks, directions)
+  // In a scheduled (crowd) solve, the bodies' horizontal displacement this solve, (x, y)
+  // interleaved, in single precision; x and y then keep the positions at the start of the solve.
+  // Why: a crowd's sweep is bound by the bytes and instructions per pair, and a displacement needs
+  // no more than float: it stays within a few radii, so float's 24 bits resolve it to ~1e-7 of its
+  // size however far the crowd stands from the origin (positions themselves stay double). One
+  // 8-byte load or store moves a body's x and y, and four pairs fit one SSE register. An
+  // unscheduled solve (small or calm scenes) moves x and y themselves, exactly as before.
+  std::vector<float> u;
+  bool displaced = false;  // true: positions are x + u, y + u (see above)
 
   void resize(std::size_t n) {
     x.resize(n); y.resize(n); z.resize(n); r.resize(n); hh.resize(n);
     grounded.resize(n); plane_begin.resize(n); plane_count.resize(n); id.resize(n);
+    u.resize(2 * n);
   }
   std::size_t size() const { return x.size(); }
+
+  // Current position of body i and a move of it, for the general code (either representation).
+  double px(std::uint32_t i) const { return displaced ? x[i] + static_cast<double>(u[2 * i]) : x[i]; }
+  double py(std::uint32_t i) const { return displaced ? y[i] + static_cast<double>(u[2 * i + 1]) : y[i]; }
+  void shift(std::uint32_t i, double dx, double dy) {
+    if (displaced) {
+      u[2 * i] = static_cast<float>(static_cast<double>(u[2 * i]) + dx);
+      u[2 * i + 1] = static_cast<float>(static_cast<double>(u[2 * i + 1]) + dy);
+    } else {
+      x[i] += dx;
+      y[i] += dy;
+    }
+  }
 };
 
 // Raw pointers into SolverBodies for the hot loops: taken once per solve so the compiler keeps them
@@ -32,10 +57,24 @@ struct BodyPtrs {
   const double* hh;
   const std::uint8_t* grounded;
   const std::uint32_t* id;
+  float* u;
+  bool displaced;
 
   explicit BodyPtrs(SolverBodies& b)
       : x(b.x.data()), y(b.y.data()), z(b.z.data()), r(b.r.data()), hh(b.hh.data()), grounded(b.grounded.data()),
-        id(b.id.data()) {}
+        id(b.id.data()), u(b.u.data()), displaced(b.displaced) {}
+
+  double px(std::uint32_t i) const { return displaced ? x[i] + static_cast<double>(u[2 * i]) : x[i]; }
+  double py(std::uint32_t i) const { return displaced ? y[i] + static_cast<double>(u[2 * i + 1]) : y[i]; }
+  void shift(std::uint32_t i, double dx, double dy) const {
+    if (displaced) {
+      u[2 * i] = static_cast<float>(static_cast<double>(u[2 * i]) + dx);
+      u[2 * i + 1] = static_cast<float>(static_cast<double>(u[2 * i + 1]) + dy);
+    } else {
+      x[i] += dx;
+      y[i] += dy;
+    }
+  }
 };
 
 struct SolverPair {

@@ -74,6 +74,7 @@ struct World::Impl {
   std::vector<detail::CandidatePair> candidates;
   std::vector<detail::SolverPair> pairs;
   detail::PairSchedule pair_schedule;
+  std::size_t warm_pairs = 0;  // pairs of this tick that start with a warm-start push
   std::vector<detail::SolverPlane> planes;
   std::vector<geom::SceneryContact> contacts;
   std::vector<PushEvent> events;

@@ -134,6 +134,7 @@ void World::Impl::build_pairs() {
   stats.candidate_pairs = static_cast<std::uint32_t>(candidates.size());
 
   pairs.resize(candidates.size());
+  warm_pairs = 0;
   for (std::size_t k = 0; k < candidates.size(); ++k) {
     const std::uint32_t a = candidates[k].a, b = candidates[k].b;
     const std::uint32_t da = order[a], db = order[b];
@@ -174,6 +175,7 @@ void World::Impl::build_pairs() {
       for (std::uint32_t q = 0; q < bodies.warm_count[owner]; ++q) {
         if (e[q].partner == partner) { p.lambda = e[q].lambda; break; }
       }
+      warm_pairs += p.lambda > 0.0 ? 1 : 0;
     }
   }
 }
@@ -181,13 +183,15 @@ void World::Impl::build_pairs() {
 void World::Impl::solve() {
   const std::size_t n = sb.size();
   const double conflict_limit = policy.mode() == params::PushMode::ratio ? settings.conflict_share_limit : 0.0;
-  const bool scheduled = detail::wants_schedule(pair_schedule);
+  const bool scheduled = detail::wants_schedule(pairs.size(), warm_pairs);
+  sb.displaced = scheduled;
+  if (scheduled) std::fill(sb.u.begin(), sb.u.end(), 0.0f);
   if (scheduled) detail::build_pair_schedule(sb, pairs, conflict_limit, pair_schedule);
+  if (settings.record_push_events) detail::measure_start_depths(sb, pairs, planes, scheduled ? &pair_schedule : nullptr);
   if (settings.warm_start) {
     if (scheduled) detail::apply_warm_start(sb, pairs, planes, pair_schedule);
     else detail::apply_warm_start(sb, pairs, planes);
   }
-  if (settings.record_push_events) detail::measure_start_depths(sb, pairs, planes);
   const detail::SolveResult r = detail::solve_contacts(sb, pairs, planes, settings.iterations,
                                                        settings.converged_pen_over_radius, conflict_limit,
                                                        pair_schedule, scheduled);
@@ -196,8 +200,8 @@ void World::Impl::solve() {
   const std::vector<std::uint32_t>& order = grid.order();
   for (std::size_t s = 0; s < n; ++s) {
     const std::uint32_t i = order[s];
-    bodies.x[i] = sb.x[s];
-    bodies.y[i] = sb.y[s];
+    bodies.x[i] = sb.px(static_cast<std::uint32_t>(s));
+    bodies.y[i] = sb.py(static_cast<std::uint32_t>(s));
     bodies.z[i] = sb.z[s];
   }
   verify_scenery_after_solve();
@@ -217,7 +221,8 @@ void World::Impl::store_warm_start_and_events() {
       ++count;
     }
     if (settings.record_push_events) {
-      events.push_back({ObjectId{sb.id[p.a]}, ObjectId{sb.id[p.b]}, static_cast<float>(p.depth_start),
+      const double depth = sb.displaced && detail::is_fast_pair(sb, p) ? detail::fast_pair_start_depth(sb, p) : p.depth_start;
+      events.push_back({ObjectId{sb.id[p.a]}, ObjectId{sb.id[p.b]}, static_cast<float>(depth),
                         static_cast<float>(p.share_a), static_cast<float>(p.lambda)});
     }
   }

@@ -11,7 +11,7 @@ namespace throng {
 struct PushEvent {
   ObjectId a;
   ObjectId b;
-  float depth_m = 0.0f;   // penetration at the start of the solve (after warm start)
+  float depth_m = 0.0f;   // penetration at the start of the solve (before the warm start)
   float share_a = 0.0f;
   float push_m = 0.0f;    // total push of the pair this tick
 };
