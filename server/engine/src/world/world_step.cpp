@@ -63,16 +63,15 @@ void World::Impl::move_bodies() {
   for (std::size_t i = 0; i < n; ++i) {
     double dx = bodies.vx[i] * dt, dy = bodies.vy[i] * dt;
     if (carry > 0.0) {
-      // Shorten the step by the part of it that was pushed back last tick (see WorldSettings).
-      const double step = std::sqrt(dx * dx + dy * dy);
-      if (step > 0.0) {
-        const double blocked = -(bodies.px[i] * dx + bodies.py[i] * dy) / step;
-        if (blocked > 0.0) {
-          const double keep = 1.0 - carry * std::min(blocked, step) / step;
-          dx *= keep;
-          dy *= keep;
-        }
-      }
+      // Shorten the step by the part of it that was pushed back last tick (see WorldSettings):
+      // keep = 1 - carry * clamp(blocked, 0, step) / step with blocked = -(push . step) / step,
+      // written over step^2 so that it needs no square root and no branch (whether a body was
+      // pushed back is data-dependent; the branches mispredicted and the sqrt was on the path).
+      const double step2 = dx * dx + dy * dy;
+      const double blocked_times_step = std::clamp(-(bodies.px[i] * dx + bodies.py[i] * dy), 0.0, step2);
+      const double keep = 1.0 - carry * blocked_times_step / (step2 > 0.0 ? step2 : 1.0);
+      dx *= keep;
+      dy *= keep;
     }
     const double dz = bodies.grounded[i] ? 0.0 : bodies.vz[i] * dt;
     double frac = 1.0;
