@@ -107,6 +107,7 @@ TEST(FloatSweep, ScheduledSolveAgreesWithTheDoubleSolveToFloatRounding) {
   }
 }
 
+// Warm start and sweeps, with conflict shares.
 TEST(FloatSweep, FourLanePathGivesTheScalarBits) {
   Crowd c = packed_crowd(1500, 500.0, 5);
   c.bodies.displaced = true;
@@ -116,6 +117,11 @@ TEST(FloatSweep, FourLanePathGivesTheScalarBits) {
   PairSchedule scalar = simd;
   SolverBodies scalar_bodies = c.bodies;
   const BodyPtrs bs(c.bodies), bp(scalar_bodies);
+  for (const PairSchedule::Level& lv : simd.levels) {
+    warm_start_fast_range(bs, simd, lv.fast_begin, lv.fast_end);
+    for (std::uint32_t k = lv.fast_begin; k < lv.fast_end; ++k) warm_start_fast(bp, scalar, k);
+  }
+  ASSERT_EQ(c.bodies.u, scalar_bodies.u);
   for (int sweep = 0; sweep < 4; ++sweep) {
     for (const PairSchedule::Level& lv : simd.levels) {
       const float w4 = project_fast_range(bs, simd, lv.fast_begin, lv.fast_end);

@@ -58,7 +58,7 @@ void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, cons
                       PairSchedule& schedule) {
   const BodyPtrs b(bodies);
   for (const PairSchedule::Level& lv : schedule.levels) {
-    for (std::uint32_t f = lv.fast_begin; f < lv.fast_end; ++f) warm_start_fast(b, schedule, f);
+    warm_start_fast_range(b, schedule, lv.fast_begin, lv.fast_end);
     for (std::uint32_t k = lv.slow_begin; k < lv.slow_end; ++k) warm_start_pair(bodies, pairs[schedule.slow[k]], planes);
   }
 }

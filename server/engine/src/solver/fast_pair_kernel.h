@@ -37,6 +37,19 @@ inline void fast_direction(const BodyPtrs& b, std::uint32_t ia, std::uint32_t ib
   }
 }
 
+#if defined(__SSE2__)
+// Two bodies' (x, y) displacements as (x0, y0, x1, y1): one 8-byte load or store per body (__m64
+// is declared may_alias, so this reads the float array legally).
+inline __m128 load_body_pair(const float* u, std::uint32_t i0, std::uint32_t i1) {
+  return _mm_loadh_pi(_mm_loadl_pi(_mm_setzero_ps(), reinterpret_cast<const __m64*>(u + 2 * i0)),
+                      reinterpret_cast<const __m64*>(u + 2 * i1));
+}
+inline void store_body_pair(float* u, std::uint32_t i0, std::uint32_t i1, __m128 v) {
+  _mm_storel_pi(reinterpret_cast<__m64*>(u + 2 * i0), v);
+  _mm_storeh_pi(reinterpret_cast<__m64*>(u + 2 * i1), v);
+}
+#endif
+
 // One fast pair, scalar. Returns the penetration before the projection over the smaller radius
 // (0 if separated). The ratio is taken with a stored reciprocal: it only steers the early exit
 // and StepStats.
@@ -88,20 +101,11 @@ inline float project_fast_range(const BodyPtrs& b, PairSchedule& s, std::uint32_
   const __m128 one = _mm_set1_ps(1.0f);
   const __m128 conflict_lo = _mm_set1_ps(s.conflict_lo), conflict_hi = _mm_set1_ps(s.conflict_hi);
   __m128 worst4 = zero;
-  // A body's (x, y) displacement is one 8-byte load or store (__m64 is declared may_alias).
-  auto load_xy = [u](std::uint32_t i0, std::uint32_t i1) {
-    return _mm_loadh_pi(_mm_loadl_pi(_mm_setzero_ps(), reinterpret_cast<const __m64*>(u + 2 * i0)),
-                        reinterpret_cast<const __m64*>(u + 2 * i1));
-  };
-  auto store_xy = [u](std::uint32_t i0, std::uint32_t i1, __m128 v) {
-    _mm_storel_pi(reinterpret_cast<__m64*>(u + 2 * i0), v);
-    _mm_storeh_pi(reinterpret_cast<__m64*>(u + 2 * i1), v);
-  };
   for (; k + 4 <= end; k += 4) {
     const std::uint32_t a0 = ia[k], a1 = ia[k + 1], a2 = ia[k + 2], a3 = ia[k + 3];
     const std::uint32_t b0 = ib[k], b1 = ib[k + 1], b2 = ib[k + 2], b3 = ib[k + 3];
-    const __m128 a01 = load_xy(a0, a1), a23 = load_xy(a2, a3);
-    const __m128 b01 = load_xy(b0, b1), b23 = load_xy(b2, b3);
+    const __m128 a01 = load_body_pair(u, a0, a1), a23 = load_body_pair(u, a2, a3);
+    const __m128 b01 = load_body_pair(u, b0, b1), b23 = load_body_pair(u, b2, b3);
     const __m128 ax = _mm_shuffle_ps(a01, a23, _MM_SHUFFLE(2, 0, 2, 0));
     const __m128 ay = _mm_shuffle_ps(a01, a23, _MM_SHUFFLE(3, 1, 3, 1));
     const __m128 bx = _mm_shuffle_ps(b01, b23, _MM_SHUFFLE(2, 0, 2, 0));
@@ -117,8 +121,9 @@ inline float project_fast_range(const BodyPtrs& b, PairSchedule& s, std::uint32_
     if (skip_bits == 15) continue;
     const __m128 dist = _mm_sqrt_ps(d2);
     // Coincident cores need the id-derived direction: leave the four lanes to the scalar path.
+    // (Skipped lanes too: their direction is multiplied by a zero step, and 0 * inf is NaN.)
     const __m128 apart = _mm_cmpgt_ps(dist, _mm_mul_ps(eps, target));
-    if ((_mm_movemask_ps(apart) | skip_bits) != 15) {
+    if (_mm_movemask_ps(apart) != 15) {
       for (std::uint32_t q = 0; q < 4; ++q) worst = std::max(worst, project_fast_pair(b, s, k + q));
       continue;
     }
@@ -136,8 +141,8 @@ inline float project_fast_range(const BodyPtrs& b, PairSchedule& s, std::uint32_
     const __m128 bx2 = _mm_add_ps(bx, _mm_mul_ps(nx, move_b)), by2 = _mm_add_ps(by, _mm_mul_ps(ny, move_b));
     const __m128 a01n = _mm_unpacklo_ps(ax2, ay2), a23n = _mm_unpackhi_ps(ax2, ay2);
     const __m128 b01n = _mm_unpacklo_ps(bx2, by2), b23n = _mm_unpackhi_ps(bx2, by2);
-    store_xy(a0, a1, a01n); store_xy(a2, a3, a23n);
-    store_xy(b0, b1, b01n); store_xy(b2, b3, b23n);
+    store_body_pair(u, a0, a1, a01n); store_body_pair(u, a2, a3, a23n);
+    store_body_pair(u, b0, b1, b01n); store_body_pair(u, b2, b3, b23n);
     _mm_storeu_ps(lambda_p + k, _mm_or_ps(_mm_and_ps(skip, lambda), _mm_andnot_ps(skip, new_lambda)));
     // Branch-free from here: whether a lane pushed is data-dependent and mispredicts often.
     const __m128 pushed = _mm_andnot_ps(skip, _mm_cmpgt_ps(pen, zero));
@@ -170,6 +175,52 @@ inline void warm_start_fast(const BodyPtrs& b, const PairSchedule& s, std::uint3
   const float move_b = lambda - move_a;
   u[2 * ia] -= nx * move_a; u[2 * ia + 1] -= ny * move_a;
   u[2 * ib] += nx * move_b; u[2 * ib + 1] += ny * move_b;
+}
+
+// warm_start_fast over fast pairs [begin, end) of one level, four at a time (same bits). A lane
+// without a warm push moves its bodies by zero, which leaves a displacement's bits as they are:
+// displacements start at +0 and a sum that cancels is +0, so none is ever -0.
+inline void warm_start_fast_range(const BodyPtrs& b, const PairSchedule& s, std::uint32_t begin, std::uint32_t end) {
+  std::uint32_t f = begin;
+#if defined(__SSE2__)
+  float* const u = b.u;
+  const std::uint32_t* const ia = s.a.data();
+  const std::uint32_t* const ib = s.b.data();
+  const __m128 zero = _mm_setzero_ps();
+  const __m128 eps = _mm_set1_ps(1e-9f);
+  const __m128 one = _mm_set1_ps(1.0f);
+  for (; f + 4 <= end; f += 4) {
+    const __m128 lambda = _mm_loadu_ps(s.lambda.data() + f);
+    if (_mm_movemask_ps(_mm_cmpeq_ps(lambda, zero)) == 15) continue;
+    const std::uint32_t a0 = ia[f], a1 = ia[f + 1], a2 = ia[f + 2], a3 = ia[f + 3];
+    const std::uint32_t b0 = ib[f], b1 = ib[f + 1], b2 = ib[f + 2], b3 = ib[f + 3];
+    const __m128 a01 = load_body_pair(u, a0, a1), a23 = load_body_pair(u, a2, a3);
+    const __m128 b01 = load_body_pair(u, b0, b1), b23 = load_body_pair(u, b2, b3);
+    const __m128 ax = _mm_shuffle_ps(a01, a23, _MM_SHUFFLE(2, 0, 2, 0));
+    const __m128 ay = _mm_shuffle_ps(a01, a23, _MM_SHUFFLE(3, 1, 3, 1));
+    const __m128 bx = _mm_shuffle_ps(b01, b23, _MM_SHUFFLE(2, 0, 2, 0));
+    const __m128 by = _mm_shuffle_ps(b01, b23, _MM_SHUFFLE(3, 1, 3, 1));
+    const __m128 dx = _mm_add_ps(_mm_loadu_ps(s.sx.data() + f), _mm_sub_ps(bx, ax));
+    const __m128 dy = _mm_add_ps(_mm_loadu_ps(s.sy.data() + f), _mm_sub_ps(by, ay));
+    const __m128 dist = _mm_sqrt_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)));
+    const __m128 apart = _mm_cmpgt_ps(dist, _mm_mul_ps(eps, _mm_loadu_ps(s.target.data() + f)));
+    if (_mm_movemask_ps(apart) != 15) {
+      for (std::uint32_t q = 0; q < 4; ++q) warm_start_fast(b, s, f + q);
+      continue;
+    }
+    const __m128 inv = _mm_div_ps(one, dist);
+    const __m128 nx = _mm_mul_ps(dx, inv), ny = _mm_mul_ps(dy, inv);
+    const __m128 move_a = _mm_mul_ps(lambda, _mm_loadu_ps(s.share_now.data() + f));
+    const __m128 move_b = _mm_sub_ps(lambda, move_a);
+    const __m128 ax2 = _mm_sub_ps(ax, _mm_mul_ps(nx, move_a)), ay2 = _mm_sub_ps(ay, _mm_mul_ps(ny, move_a));
+    const __m128 bx2 = _mm_add_ps(bx, _mm_mul_ps(nx, move_b)), by2 = _mm_add_ps(by, _mm_mul_ps(ny, move_b));
+    store_body_pair(u, a0, a1, _mm_unpacklo_ps(ax2, ay2));
+    store_body_pair(u, a2, a3, _mm_unpackhi_ps(ax2, ay2));
+    store_body_pair(u, b0, b1, _mm_unpacklo_ps(bx2, by2));
+    store_body_pair(u, b2, b3, _mm_unpackhi_ps(bx2, by2));
+  }
+#endif
+  for (; f < end; ++f) warm_start_fast(b, s, f);
 }
 
 }  // namespace throng::detail
