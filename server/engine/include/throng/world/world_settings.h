@@ -18,7 +18,9 @@ struct WorldSettings {
   // Fill push_events() every tick (the publisher, log and viewer read them). Benchmarks may turn it
   // off to measure the solver alone.
   bool record_push_events = true;
-  // Reuse last tick's per-pair push (warm starting). Off only for experiments/benchmarks.
+  // Reuse last tick's per-pair push (warm starting). Off only for experiments/benchmarks; off, every
+  // solve also runs in the pairs' own order on double positions (the crowd solve is chosen by how
+  // many pairs start warm, see solver/contact_solver.h).
   bool warm_start = true;
   // Blocked-motion warm start: a body that was pushed back against its own step last tick starts
   // this tick with that much less step (times this factor), so a jammed crowd does not re-create
