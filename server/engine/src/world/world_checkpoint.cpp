@@ -17,6 +17,7 @@
 // than iterations, the scenery shapes, the parameter table.
 #include <cstring>
 #include <exception>
+#include <limits>
 #include <string>
 
 #include "throng/world/world.h"
@@ -92,8 +93,10 @@ void World::Impl::save_state(ByteWriter& w) const {
   for (std::size_t i = 0; i < n; ++i) {
     for (std::uint32_t k = 0; k < bodies.warm_count[i]; ++k) {
       const detail::WarmEntry& e = bodies.warm[i * detail::kWarmSlots + k];
+      // Written as f64 (the format predates float pushes; the widening is exact).
+      const double lambda = e.lambda;
       std::memcpy(p, &e.partner, 4);
-      std::memcpy(p + 4, &e.lambda, 8);
+      std::memcpy(p + 4, &lambda, 8);
       p += 12;
     }
   }
@@ -154,7 +157,7 @@ WorldState decode_world_state(ByteReader& r) {
   st.max_body_reach_m = r.get<double>("max body reach");
   st.scenery_reach_m = r.get<double>("scenery reach");
   st.bodies.for_each_column([&](auto& col) { r.get_array_exact(col, "body column", n); });
-  st.bodies.warm.assign(std::size_t{n} * kWarmSlots, WarmEntry{0, 0.0});
+  st.bodies.warm.assign(std::size_t{n} * kWarmSlots, WarmEntry{0, 0.0f});
   std::uint32_t warm_total = 0;
   for (std::uint32_t i = 0; i < n; ++i) {
     if (st.bodies.warm_count[i] > kWarmSlots) r.fail("warm count " + std::to_string(st.bodies.warm_count[i]) + " > 8");
@@ -165,8 +168,14 @@ WorldState decode_world_state(ByteReader& r) {
   for (std::uint32_t i = 0; i < n; ++i) {
     for (std::uint32_t k = 0; k < st.bodies.warm_count[i]; ++k) {
       WarmEntry& e = st.bodies.warm[std::size_t{i} * kWarmSlots + k];
+      double lambda;
       std::memcpy(&e.partner, p, 4);
-      std::memcpy(&e.lambda, p + 4, 8);
+      std::memcpy(&lambda, p + 4, 8);
+      // Only pushes > 0 are stored; anything else would put NaN or a pull into the next solve.
+      if (!(lambda > 0.0 && lambda <= std::numeric_limits<float>::max())) {
+        r.fail("warm-start push " + std::to_string(lambda) + " of body " + std::to_string(i) + " is not in (0, FLT_MAX]");
+      }
+      e.lambda = static_cast<float>(lambda);
       p += 12;
     }
   }

@@ -172,7 +172,7 @@ void World::Impl::build_pairs() {
       const std::uint32_t partner = a_owns ? sb.id[b] : sb.id[a];
       const detail::WarmEntry* e = &bodies.warm[owner * detail::kWarmSlots];
       for (std::uint32_t q = 0; q < bodies.warm_count[owner]; ++q) {
-        if (e[q].partner == partner) { p.lambda = e[q].lambda; break; }
+        if (e[q].partner == partner) { p.lambda = static_cast<double>(e[q].lambda); break; }
       }
       warm_pairs += p.lambda > 0.0 ? 1 : 0;
     }
@@ -216,7 +216,7 @@ void World::Impl::store_warm_start_and_events() {
     const std::uint32_t owner = order[a_owns ? p.a : p.b];
     std::uint8_t& count = bodies.warm_count[owner];
     if (count < detail::kWarmSlots) {
-      bodies.warm[owner * detail::kWarmSlots + count] = {a_owns ? sb.id[p.b] : sb.id[p.a], p.lambda};
+      bodies.warm[owner * detail::kWarmSlots + count] = {a_owns ? sb.id[p.b] : sb.id[p.a], static_cast<float>(p.lambda)};
       ++count;
     }
     if (settings.record_push_events) {
