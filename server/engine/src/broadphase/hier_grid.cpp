@@ -22,21 +22,36 @@ inline bool is_candidate(const GridBodyView& v, std::uint32_t i, std::uint32_t j
   return (v.group[i] & v.mask[j]) != 0 && (v.group[j] & v.mask[i]) != 0;
 }
 
-// Tests body i against bodies [from, to) in order, one unit of budget each, appending candidates.
-// Body i's values are read once; the arithmetic is is_candidate's, term for term.
-inline void scan_range(const GridBodyView& v, std::uint32_t i, std::uint32_t from, std::uint32_t to, double margin,
-                       std::uint32_t& budget, std::vector<CandidatePair>& out) {
-  if (from >= to || budget == 0) return;
-  const std::uint32_t end = to - from > budget ? from + budget : to;
-  budget -= end - from;
-  const double xi = v.x[i], yi = v.y[i], ri = v.r[i];
+// Tests body i against bodies [from, from + len) in order, writing every tested pair to out[count]
+// and advancing count only for candidates (no branch on the outcome: in a packed crowd the distance
+// test is close to a coin toss). out must have room for len more pairs. The arithmetic is
+// is_candidate's, term for term, and a NaN compares the same way (the tests are negated >=).
+struct BodyArrays {
+  const double* __restrict x;
+  const double* __restrict y;
+  const double* __restrict z;
+  const double* __restrict r;
+  const double* __restrict hh;
+  const std::uint32_t* __restrict group;
+  const std::uint32_t* __restrict mask;
+};
+
+inline std::size_t scan_range(const BodyArrays& v, std::uint32_t i, std::uint32_t from, std::uint32_t len, double margin,
+                              CandidatePair* __restrict out, std::size_t count) {
+  const double xi = v.x[i], yi = v.y[i], zi = v.z[i], ri = v.r[i], hhi = v.hh[i];
+  const std::uint32_t gi = v.group[i], mi = v.mask[i];
+  const std::uint32_t end = from + len;
   for (std::uint32_t j = from; j < end; ++j) {
     const double dx = v.x[j] - xi;
     const double dy = v.y[j] - yi;
     const double reach = ri + v.r[j] + margin;
-    if (dx * dx + dy * dy >= reach * reach) continue;
-    if (is_candidate(v, i, j, margin)) out.push_back({i, j});
+    const double gap_z = std::fabs(v.z[j] - zi) - hhi - v.hh[j];
+    const bool hit = static_cast<bool>(!(dx * dx + dy * dy >= reach * reach) & !(gap_z >= reach) &
+                                       ((gi & v.mask[j]) != 0) & ((v.group[j] & mi) != 0));
+    out[count] = CandidatePair(i, j);
+    count += hit;
   }
+  return count;
 }
 
 }  // namespace
@@ -118,6 +133,12 @@ void HierGrid::build(const double* x, const double* y, const double* r, std::siz
 std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::uint32_t max_candidates,
                                    std::vector<CandidatePair>& out) const {
   std::uint32_t capped = 0;
+  const BodyArrays a{v.x, v.y, v.z, v.r, v.hh, v.group, v.mask};
+  // Pairs are written to out[count] ahead of the test; out is grown to its capacity first (free:
+  // CandidatePair's default constructor does nothing) and cut back to the hits at the end, which
+  // never releases capacity, so after warm-up no tick allocates.
+  std::size_t count = out.size();
+  out.resize(out.capacity());
   for (int l = 0; l < level_count_; ++l) {
     const std::vector<Cell>& cells = levels_[l].cells;
     const std::uint64_t stride = levels_[l].stride;
@@ -138,13 +159,18 @@ std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::ui
         up_end = cells[q].end;
       }
       for (std::uint32_t i = c.begin; i < c.end; ++i) {
-        std::uint32_t budget = max_candidates;
-        scan_range(v, i, i + 1, near_end, margin, budget, out);
-        scan_range(v, i, up_begin, up_end, margin, budget, out);
-        if (budget == 0) ++capped;
+        // Each body examines at most max_candidates bodies: its own cell's later bodies and the
+        // right cell first, then the row above.
+        const std::uint32_t near_len = std::min(near_end - (i + 1), max_candidates);
+        const std::uint32_t up_len = std::min(up_end - up_begin, max_candidates - near_len);
+        if (near_len + up_len == max_candidates) ++capped;
+        if (out.size() < count + near_len + up_len) out.resize(std::max(count + near_len + up_len, 2 * out.size()));
+        count = scan_range(a, i, i + 1, near_len, margin, out.data(), count);
+        count = scan_range(a, i, up_begin, up_len, margin, out.data(), count);
       }
     }
   }
+  out.resize(count);
   // Cross-level pairs: each body of a coarser level queries the finer levels over its box.
   for (int l = 1; l < level_count_; ++l) {
     const Level& lv = levels_[l];

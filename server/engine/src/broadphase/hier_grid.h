@@ -24,6 +24,10 @@
 namespace throng::detail {
 
 struct CandidatePair {
+  // The default constructor leaves a and b unset on purpose: find_pairs grows its output ahead of
+  // use (resize costs nothing then) and writes every tested pair, keeping only the hits.
+  CandidatePair() {}
+  CandidatePair(std::uint32_t a_, std::uint32_t b_) : a(a_), b(b_) {}
   std::uint32_t a;  // solver index (position in order())
   std::uint32_t b;
 };
