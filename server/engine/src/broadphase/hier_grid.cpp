@@ -64,22 +64,101 @@ std::uint64_t HierGrid::level_key(const Level& lv, std::int64_t cx, std::int64_t
   return row * lv.stride + col;
 }
 
+void HierGrid::sort_level(Level& lv, const std::int32_t* cxy, const std::uint32_t* idx, std::uint32_t m,
+                          std::int64_t min_cx, std::int64_t min_cy, std::int64_t max_cx, std::int64_t max_cy) {
+  lv.min_cx = min_cx;
+  lv.min_cy = min_cy;
+  lv.stride = static_cast<std::uint64_t>(max_cx - min_cx) + 3;
+  lv.rows = static_cast<std::uint64_t>(max_cy - min_cy) + 3;
+  const std::uint64_t key_count = lv.stride * lv.rows;
+  // Stable counting sort by cell key when the key range is at most a few times the body count:
+  // one pass to count, one to scatter, and the cell list falls out of the counts. Equal keys keep
+  // the dense order, so the result is the stable radix sort's, exactly.
+  if (lv.stride <= (std::uint64_t{1} << 32) && lv.rows <= (std::uint64_t{1} << 32) &&
+      key_count <= 8 * std::uint64_t{m} + 4096) {
+    const auto kc = static_cast<std::uint32_t>(key_count);
+    const auto stride = static_cast<std::uint32_t>(lv.stride);
+    const auto ox = static_cast<std::uint32_t>(min_cx) - 1u, oy = static_cast<std::uint32_t>(min_cy) - 1u;
+    keys_.resize(m);
+    if (lv.start.size() < std::size_t{kc} + 2) lv.start.resize(std::size_t{kc} + 2);
+    std::uint32_t* cnt = lv.start.data();
+    std::fill(cnt, cnt + kc + 2, 0u);
+    std::uint32_t* keys = keys_.data();
+    // Coordinates are inside the box: the key arithmetic cannot wrap.
+    for (std::uint32_t t = 0; t < m; ++t) {
+      const std::uint32_t key =
+          (static_cast<std::uint32_t>(cxy[2 * t + 1]) - oy) * stride + (static_cast<std::uint32_t>(cxy[2 * t]) - ox);
+      keys[t] = key;
+      ++cnt[key + 2];
+    }
+    // cnt[k + 1] = first slot of key k; the scatter advances it to the first slot of key k + 1.
+    cnt[1] = lv.begin;
+    for (std::uint32_t k = 2; k < kc + 2; ++k) cnt[k] += cnt[k - 1];
+    std::uint32_t* order = order_.data();
+    if (idx == nullptr) {
+      for (std::uint32_t t = 0; t < m; ++t) order[cnt[keys[t] + 1]++] = t;
+    } else {
+      for (std::uint32_t t = 0; t < m; ++t) order[cnt[keys[t] + 1]++] = idx[t];
+    }
+    cnt[0] = lv.begin;  // now cnt[k] = first slot of key k for every k <= kc
+    lv.cells.resize(std::size_t{m} + 1);  // one spare: every key writes a cell, occupied or not
+    Cell* cells = lv.cells.data();
+    std::uint32_t nc = 0;
+    for (std::uint32_t k = 0; k < kc; ++k) {
+      const std::uint32_t b = cnt[k], e = cnt[k + 1];
+      cells[nc] = Cell(k, b, e);
+      nc += b != e;
+    }
+    lv.cells.resize(nc);
+    return;
+  }
+  lv.start.clear();
+  items_.resize(m);
+  for (std::uint32_t t = 0; t < m; ++t) {
+    items_[t] = {level_key(lv, cxy[2 * t], cxy[2 * t + 1]), idx == nullptr ? t : idx[t]};
+  }
+  radix_sort(items_, scratch_, key_count - 1);
+  std::uint32_t s = lv.begin;
+  for (std::size_t k = 0; k < items_.size(); ++k, ++s) {
+    order_[s] = items_[k].index;
+    if (lv.cells.empty() || lv.cells.back().key != items_[k].key) lv.cells.push_back(Cell(items_[k].key, s, s));
+    lv.cells.back().end = s + 1;
+  }
+}
+
 void HierGrid::build(const double* x, const double* y, const double* r, std::size_t n, double margin_m,
                      double cell0_m) {
   if (levels_.size() < kMaxLevels) levels_.resize(kMaxLevels);
   level_of_.resize(n);
-  level_count_ = 1;
-  std::array<std::uint32_t, kMaxLevels> count{};
-  for (std::size_t i = 0; i < n; ++i) {
-    const double diameter = 2.0 * (r[i] + margin_m);
-    int l = 0;
-    double cell = cell0_m;
-    while (cell < diameter && l + 1 < kMaxLevels) { cell *= 2.0; ++l; }
-    level_of_[i] = static_cast<std::uint8_t>(l);
-    ++count[l];
-    level_count_ = std::max(level_count_, l + 1);
-  }
+  coords_.resize(2 * n);
   order_.resize(n);
+  std::array<std::uint32_t, kMaxLevels> count{};
+  // One pass assigns levels and, for the common case of a single level, also computes the level-0
+  // cell coordinates, their box and the largest reach.
+  int top = 0;
+  const double inv0 = 1.0 / cell0_m;
+  std::int64_t min_cx = INT64_MAX, min_cy = INT64_MAX, max_cx = INT64_MIN, max_cy = INT64_MIN;
+  double max_reach = 0.0;
+  {
+    std::uint8_t* level_of = level_of_.data();
+    std::int32_t* coords = coords_.data();
+    for (std::size_t i = 0; i < n; ++i) {
+      const double diameter = 2.0 * (r[i] + margin_m);
+      int l = 0;
+      double cell = cell0_m;
+      while (cell < diameter && l + 1 < kMaxLevels) { cell *= 2.0; ++l; }
+      level_of[i] = static_cast<std::uint8_t>(l);
+      ++count[l];
+      top = std::max(top, l);
+      const std::int64_t cx = cell_coord(x[i], inv0), cy = cell_coord(y[i], inv0);
+      coords[2 * i] = static_cast<std::int32_t>(cx);
+      coords[2 * i + 1] = static_cast<std::int32_t>(cy);
+      min_cx = std::min(min_cx, cx); max_cx = std::max(max_cx, cx);
+      min_cy = std::min(min_cy, cy); max_cy = std::max(max_cy, cy);
+      max_reach = std::max(max_reach, r[i] + margin_m);
+    }
+  }
+  level_count_ = top + 1;
   std::uint32_t offset = 0;
   double cell = cell0_m;
   for (int l = 0; l < level_count_; ++l) {
@@ -92,41 +171,34 @@ void HierGrid::build(const double* x, const double* y, const double* r, std::siz
     offset = lv.end;
     cell *= 2.0;
   }
-  // Sort each level by cell key. Items keep the dense order for equal keys (stable sort), so the
-  // result depends only on positions and the dense order.
+  if (level_count_ == 1) {
+    if (n == 0) return;
+    levels_[0].max_reach_m = max_reach;
+    sort_level(levels_[0], coords_.data(), nullptr, static_cast<std::uint32_t>(n), min_cx, min_cy, max_cx, max_cy);
+    return;
+  }
+  // Several levels: sort each level by cell key. Items keep the dense order for equal keys (stable
+  // sort), so the result depends only on positions and the dense order.
   for (int l = 0; l < level_count_; ++l) {
     Level& lv = levels_[l];
-    if (lv.begin == lv.end) continue;
+    if (lv.begin == lv.end) { lv.start.clear(); continue; }
     const double inv = 1.0 / lv.cell_m;
     const std::uint32_t count_l = lv.end - lv.begin;
-    items_.resize(count_l);
-    coords_.resize(2 * std::size_t{count_l});
-    std::int64_t min_cx = INT64_MAX, min_cy = INT64_MAX, max_cx = INT64_MIN, max_cy = INT64_MIN;
-    const bool one_level = level_count_ == 1;  // the common case: no per-body level test
-    std::size_t m = 0;
+    level_index_.resize(count_l);
+    min_cx = INT64_MAX; min_cy = INT64_MAX; max_cx = INT64_MIN; max_cy = INT64_MIN;
+    std::uint32_t m = 0;
     for (std::size_t i = 0; i < n; ++i) {
-      if (!one_level && level_of_[i] != l) continue;
+      if (level_of_[i] != l) continue;
       const std::int64_t cx = cell_coord(x[i], inv), cy = cell_coord(y[i], inv);
-      coords_[2 * m] = cx;
-      coords_[2 * m + 1] = cy;
+      coords_[2 * m] = static_cast<std::int32_t>(cx);
+      coords_[2 * m + 1] = static_cast<std::int32_t>(cy);
       min_cx = std::min(min_cx, cx); max_cx = std::max(max_cx, cx);
       min_cy = std::min(min_cy, cy); max_cy = std::max(max_cy, cy);
-      items_[m] = {0, static_cast<std::uint32_t>(i)};
+      level_index_[m] = static_cast<std::uint32_t>(i);
       lv.max_reach_m = std::max(lv.max_reach_m, r[i] + margin_m);
       ++m;
     }
-    lv.min_cx = min_cx;
-    lv.min_cy = min_cy;
-    lv.stride = static_cast<std::uint64_t>(max_cx - min_cx) + 3;
-    lv.rows = static_cast<std::uint64_t>(max_cy - min_cy) + 3;
-    for (std::size_t k = 0; k < items_.size(); ++k) items_[k].key = level_key(lv, coords_[2 * k], coords_[2 * k + 1]);
-    radix_sort(items_, scratch_, lv.stride * lv.rows - 1);
-    std::uint32_t s = lv.begin;
-    for (std::size_t k = 0; k < items_.size(); ++k, ++s) {
-      order_[s] = items_[k].index;
-      if (lv.cells.empty() || lv.cells.back().key != items_[k].key) lv.cells.push_back({items_[k].key, s, s});
-      lv.cells.back().end = s + 1;
-    }
+    sort_level(lv, coords_.data(), level_index_.data(), m, min_cx, min_cy, max_cx, max_cy);
   }
 }
 
@@ -189,7 +261,7 @@ std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::ui
                                      [](const Cell& cell, std::uint64_t key) { return cell.key < key; });
           for (; it != fine.cells.end() && it->key <= hi && budget > 0; ++it) {
             for (std::uint32_t j = it->begin; j < it->end && budget > 0; ++j, --budget) {
-              if (is_candidate(v, i, j, margin)) out.push_back({i, j});
+              if (is_candidate(v, i, j, margin)) out.push_back(CandidatePair(i, j));
             }
           }
         }
