@@ -211,9 +211,33 @@ std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::ui
   // never releases capacity, so after warm-up no tick allocates.
   std::size_t count = out.size();
   out.resize(out.capacity());
+  // Each body examines at most max_candidates bodies: its own cell's later bodies and the right
+  // cell first, then the (up to three) cells of the row above.
+  const auto scan_body = [&](std::uint32_t i, std::uint32_t near_end, std::uint32_t up_begin, std::uint32_t up_end) {
+    const std::uint32_t near_len = std::min(near_end - (i + 1), max_candidates);
+    const std::uint32_t up_len = std::min(up_end - up_begin, max_candidates - near_len);
+    if (near_len + up_len == max_candidates) ++capped;
+    if (out.size() < count + near_len + up_len) out.resize(std::max(count + near_len + up_len, 2 * out.size()));
+    count = scan_range(a, i, i + 1, near_len, margin, out.data(), count);
+    count = scan_range(a, i, up_begin, up_len, margin, out.data(), count);
+  };
   for (int l = 0; l < level_count_; ++l) {
     const std::vector<Cell>& cells = levels_[l].cells;
     const std::uint64_t stride = levels_[l].stride;
+    if (!levels_[l].start.empty()) {
+      // Counting-sorted level: start[k] is the first body of key k for every key, so the right
+      // neighbour ends at start[key + 2] and the row above spans [start[key + stride - 1],
+      // start[key + stride + 2]) (empty cells contribute nothing). Occupied keys are interior,
+      // so key + stride + 2 <= stride * rows.
+      const std::uint32_t* start = levels_[l].start.data();
+      for (const Cell& c : cells) {
+        const std::uint64_t k = c.key;
+        const std::uint32_t near_end = start[k + 2];
+        const std::uint32_t up_begin = start[k + stride - 1], up_end = start[k + stride + 2];
+        for (std::uint32_t i = c.begin; i < c.end; ++i) scan_body(i, near_end, up_begin, up_end);
+      }
+      continue;
+    }
     std::size_t up = 0;  // first cell at or after (cx - 1, cy + 1); only moves forward
     for (std::size_t k = 0; k < cells.size(); ++k) {
       const Cell& c = cells[k];
@@ -230,16 +254,7 @@ std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::ui
         up_begin = cells[up].begin;
         up_end = cells[q].end;
       }
-      for (std::uint32_t i = c.begin; i < c.end; ++i) {
-        // Each body examines at most max_candidates bodies: its own cell's later bodies and the
-        // right cell first, then the row above.
-        const std::uint32_t near_len = std::min(near_end - (i + 1), max_candidates);
-        const std::uint32_t up_len = std::min(up_end - up_begin, max_candidates - near_len);
-        if (near_len + up_len == max_candidates) ++capped;
-        if (out.size() < count + near_len + up_len) out.resize(std::max(count + near_len + up_len, 2 * out.size()));
-        count = scan_range(a, i, i + 1, near_len, margin, out.data(), count);
-        count = scan_range(a, i, up_begin, up_len, margin, out.data(), count);
-      }
+      for (std::uint32_t i = c.begin; i < c.end; ++i) scan_body(i, near_end, up_begin, up_end);
     }
   }
   out.resize(count);
