@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include <emmintrin.h>
+
 #include "broadphase/cell_key.h"
 
 namespace throng::detail {
@@ -36,21 +38,53 @@ struct BodyArrays {
   const std::uint32_t* __restrict mask;
 };
 
+inline std::size_t scan_one(const BodyArrays& v, std::uint32_t i, std::uint32_t j, double xi, double yi, double zi,
+                            double ri, double hhi, std::uint32_t gi, std::uint32_t mi, double margin,
+                            CandidatePair* __restrict out, std::size_t count) {
+  const double dx = v.x[j] - xi;
+  const double dy = v.y[j] - yi;
+  const double reach = ri + v.r[j] + margin;
+  const double gap_z = std::fabs(v.z[j] - zi) - hhi - v.hh[j];
+  const bool hit = static_cast<bool>(!(dx * dx + dy * dy >= reach * reach) & !(gap_z >= reach) &
+                                     ((gi & v.mask[j]) != 0) & ((v.group[j] & mi) != 0));
+  out[count] = CandidatePair(i, j);
+  return count + hit;
+}
+
+// Two bodies at a time with SSE2 (baseline x86-64; the same IEEE double operations as the scalar
+// code, lane by lane, no FMA), then at most one scalar.
 inline std::size_t scan_range(const BodyArrays& v, std::uint32_t i, std::uint32_t from, std::uint32_t len, double margin,
                               CandidatePair* __restrict out, std::size_t count) {
   const double xi = v.x[i], yi = v.y[i], zi = v.z[i], ri = v.r[i], hhi = v.hh[i];
   const std::uint32_t gi = v.group[i], mi = v.mask[i];
   const std::uint32_t end = from + len;
-  for (std::uint32_t j = from; j < end; ++j) {
-    const double dx = v.x[j] - xi;
-    const double dy = v.y[j] - yi;
-    const double reach = ri + v.r[j] + margin;
-    const double gap_z = std::fabs(v.z[j] - zi) - hhi - v.hh[j];
-    const bool hit = static_cast<bool>(!(dx * dx + dy * dy >= reach * reach) & !(gap_z >= reach) &
-                                       ((gi & v.mask[j]) != 0) & ((v.group[j] & mi) != 0));
-    out[count] = CandidatePair(i, j);
-    count += hit;
+  std::uint32_t j = from;
+  if (len >= 2) {
+    const __m128d vxi = _mm_set1_pd(xi), vyi = _mm_set1_pd(yi), vzi = _mm_set1_pd(zi), vri = _mm_set1_pd(ri);
+    const __m128d vhhi = _mm_set1_pd(hhi), vmargin = _mm_set1_pd(margin), sign = _mm_set1_pd(-0.0);
+    const __m128i vgi = _mm_set1_epi32(static_cast<int>(gi)), vmi = _mm_set1_epi32(static_cast<int>(mi));
+    const __m128i zero = _mm_setzero_si128();
+    for (; j + 2 <= end; j += 2) {
+      const __m128d dx = _mm_sub_pd(_mm_loadu_pd(v.x + j), vxi);
+      const __m128d dy = _mm_sub_pd(_mm_loadu_pd(v.y + j), vyi);
+      const __m128d reach = _mm_add_pd(_mm_add_pd(vri, _mm_loadu_pd(v.r + j)), vmargin);
+      const __m128d d2 = _mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy));
+      const __m128d gap_z = _mm_sub_pd(
+          _mm_sub_pd(_mm_andnot_pd(sign, _mm_sub_pd(_mm_loadu_pd(v.z + j), vzi)), vhhi), _mm_loadu_pd(v.hh + j));
+      const __m128d near = _mm_and_pd(_mm_cmpnge_pd(d2, _mm_mul_pd(reach, reach)), _mm_cmpnge_pd(gap_z, reach));
+      const __m128i gj = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(v.group + j));
+      const __m128i mj = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(v.mask + j));
+      const __m128i refused = _mm_or_si128(_mm_cmpeq_epi32(_mm_and_si128(vgi, mj), zero),
+                                           _mm_cmpeq_epi32(_mm_and_si128(gj, vmi), zero));
+      const __m128d hit = _mm_andnot_pd(_mm_castsi128_pd(_mm_unpacklo_epi32(refused, refused)), near);
+      const int bits = _mm_movemask_pd(hit);
+      out[count] = CandidatePair(i, j);
+      count += static_cast<std::size_t>(bits & 1);
+      out[count] = CandidatePair(i, j + 1);
+      count += static_cast<std::size_t>(bits >> 1);
+    }
   }
+  if (j < end) count = scan_one(v, i, j, xi, yi, zi, ri, hhi, gi, mi, margin, out, count);
   return count;
 }
 
