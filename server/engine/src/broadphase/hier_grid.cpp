@@ -167,15 +167,44 @@ void HierGrid::build(const double* x, const double* y, const double* r, std::siz
   coords_.resize(2 * n);
   order_.resize(n);
   std::array<std::uint32_t, kMaxLevels> count{};
-  // One pass assigns levels and, for the common case of a single level, also computes the level-0
-  // cell coordinates, their box and the largest reach.
+  // One pass computes the level-0 cell coordinates, their box and the largest reach; if no body is
+  // too big for level 0 (the common case) that is all the one-level sort needs. The coordinates of
+  // x and y are computed together with SSE2: clamp(floor(v * inv)) is floor(clamp(v * inv)) for
+  // integer bounds, and floor is truncation minus one where truncation rounded up (exact in this
+  // range); the box is kept as doubles, which hold these integers exactly.
   int top = 0;
   const double inv0 = 1.0 / cell0_m;
   std::int64_t min_cx = INT64_MAX, min_cy = INT64_MAX, max_cx = INT64_MIN, max_cy = INT64_MIN;
   double max_reach = 0.0;
   {
-    std::uint8_t* level_of = level_of_.data();
     std::int32_t* coords = coords_.data();
+    const __m128d vinv = _mm_set1_pd(inv0), lo = _mm_set1_pd(-kCellCoordLimit), hi = _mm_set1_pd(kCellCoordLimit);
+    const __m128d one = _mm_set1_pd(1.0);
+    __m128d vmin = _mm_set1_pd(kCellCoordLimit), vmax = _mm_set1_pd(-kCellCoordLimit);
+    for (std::size_t i = 0; i < n; ++i) {
+      const __m128d a = _mm_min_pd(_mm_max_pd(_mm_mul_pd(_mm_set_pd(y[i], x[i]), vinv), lo), hi);
+      const __m128i t = _mm_cvttpd_epi32(a);
+      const __m128d tf = _mm_cvtepi32_pd(t);
+      const __m128d up = _mm_cmpgt_pd(tf, a);
+      const __m128d f = _mm_sub_pd(tf, _mm_and_pd(up, one));
+      _mm_storel_epi64(reinterpret_cast<__m128i*>(coords + 2 * i), _mm_cvttpd_epi32(f));
+      vmin = _mm_min_pd(vmin, f);
+      vmax = _mm_max_pd(vmax, f);
+      max_reach = std::max(max_reach, r[i] + margin_m);
+    }
+    if (n > 0) {
+      min_cx = static_cast<std::int64_t>(_mm_cvtsd_f64(vmin));
+      min_cy = static_cast<std::int64_t>(_mm_cvtsd_f64(_mm_unpackhi_pd(vmin, vmin)));
+      max_cx = static_cast<std::int64_t>(_mm_cvtsd_f64(vmax));
+      max_cy = static_cast<std::int64_t>(_mm_cvtsd_f64(_mm_unpackhi_pd(vmax, vmax)));
+    }
+  }
+  // diameter = 2 (r + margin) is monotone in r, so the largest reach decides whether every body
+  // fits level 0 (the per-body test below is !(cell0 < diameter) for level 0).
+  if (!(cell0_m < 2.0 * max_reach)) {
+    count[0] = static_cast<std::uint32_t>(n);
+  } else {
+    std::uint8_t* level_of = level_of_.data();
     for (std::size_t i = 0; i < n; ++i) {
       const double diameter = 2.0 * (r[i] + margin_m);
       int l = 0;
@@ -184,12 +213,6 @@ void HierGrid::build(const double* x, const double* y, const double* r, std::siz
       level_of[i] = static_cast<std::uint8_t>(l);
       ++count[l];
       top = std::max(top, l);
-      const std::int64_t cx = cell_coord(x[i], inv0), cy = cell_coord(y[i], inv0);
-      coords[2 * i] = static_cast<std::int32_t>(cx);
-      coords[2 * i + 1] = static_cast<std::int32_t>(cy);
-      min_cx = std::min(min_cx, cx); max_cx = std::max(max_cx, cx);
-      min_cy = std::min(min_cy, cy); max_cy = std::max(max_cy, cy);
-      max_reach = std::max(max_reach, r[i] + margin_m);
     }
   }
   level_count_ = top + 1;
