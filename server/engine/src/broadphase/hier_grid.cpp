@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 
 #include <emmintrin.h>
 
@@ -38,12 +39,20 @@ struct BodyArrays {
   const std::uint32_t* __restrict mask;
 };
 
+// kFlat: every body has the same finite z and hh, the same group, a mask accepting that group, and
+// the height gap test passes for the smallest possible reach (checked by flat_bodies): then the
+// gap and group/mask tests are known to pass for every pair and only the distance test is made.
+template <bool kFlat>
 inline std::size_t scan_one(const BodyArrays& v, std::uint32_t i, std::uint32_t j, double xi, double yi, double zi,
                             double ri, double hhi, std::uint32_t gi, std::uint32_t mi, double margin,
                             CandidatePair* __restrict out, std::size_t count) {
   const double dx = v.x[j] - xi;
   const double dy = v.y[j] - yi;
   const double reach = ri + v.r[j] + margin;
+  if constexpr (kFlat) {
+    out[count] = CandidatePair(i, j);
+    return count + static_cast<bool>(!(dx * dx + dy * dy >= reach * reach));
+  }
   const double gap_z = std::fabs(v.z[j] - zi) - hhi - v.hh[j];
   const bool hit = static_cast<bool>(!(dx * dx + dy * dy >= reach * reach) & !(gap_z >= reach) &
                                      ((gi & v.mask[j]) != 0) & ((v.group[j] & mi) != 0));
@@ -53,6 +62,7 @@ inline std::size_t scan_one(const BodyArrays& v, std::uint32_t i, std::uint32_t 
 
 // Two bodies at a time with SSE2 (baseline x86-64; the same IEEE double operations as the scalar
 // code, lane by lane, no FMA), then at most one scalar.
+template <bool kFlat>
 inline std::size_t scan_range(const BodyArrays& v, std::uint32_t i, std::uint32_t from, std::uint32_t len, double margin,
                               CandidatePair* __restrict out, std::size_t count) {
   const double xi = v.x[i], yi = v.y[i], zi = v.z[i], ri = v.r[i], hhi = v.hh[i];
@@ -69,6 +79,14 @@ inline std::size_t scan_range(const BodyArrays& v, std::uint32_t i, std::uint32_
       const __m128d dy = _mm_sub_pd(_mm_loadu_pd(v.y + j), vyi);
       const __m128d reach = _mm_add_pd(_mm_add_pd(vri, _mm_loadu_pd(v.r + j)), vmargin);
       const __m128d d2 = _mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy));
+      if constexpr (kFlat) {
+        const int bits = _mm_movemask_pd(_mm_cmpnge_pd(d2, _mm_mul_pd(reach, reach)));
+        out[count] = CandidatePair(i, j);
+        count += static_cast<std::size_t>(bits & 1);
+        out[count] = CandidatePair(i, j + 1);
+        count += static_cast<std::size_t>(bits >> 1);
+        continue;
+      }
       const __m128d gap_z = _mm_sub_pd(
           _mm_sub_pd(_mm_andnot_pd(sign, _mm_sub_pd(_mm_loadu_pd(v.z + j), vzi)), vhhi), _mm_loadu_pd(v.hh + j));
       const __m128d near = _mm_and_pd(_mm_cmpnge_pd(d2, _mm_mul_pd(reach, reach)), _mm_cmpnge_pd(gap_z, reach));
@@ -84,8 +102,27 @@ inline std::size_t scan_range(const BodyArrays& v, std::uint32_t i, std::uint32_
       count += static_cast<std::size_t>(bits >> 1);
     }
   }
-  if (j < end) count = scan_one(v, i, j, xi, yi, zi, ri, hhi, gi, mi, margin, out, count);
+  if (j < end) count = scan_one<kFlat>(v, i, j, xi, yi, zi, ri, hhi, gi, mi, margin, out, count);
   return count;
+}
+
+// True when the pair tests reduce to the distance test for every pair of the n bodies (see
+// scan_one). Any NaN or infinity fails the check, and the general test is used.
+inline bool flat_bodies(const BodyArrays& v, std::size_t n, double margin) {
+  if (n == 0) return false;
+  const double z0 = v.z[0], hh0 = v.hh[0];
+  const std::uint32_t g0 = v.group[0];
+  double r_min = v.r[0];
+  bool same = true;
+  for (std::size_t s = 0; s < n; ++s) {
+    same &= (v.z[s] == z0) & (v.hh[s] == hh0) & (v.group[s] == g0) & ((g0 & v.mask[s]) != 0) & (v.r[s] == v.r[s]);
+    r_min = std::min(r_min, v.r[s]);
+  }
+  if (!same || !std::isfinite(z0) || !std::isfinite(hh0)) return false;
+  // Every pair's gap is (|z0 - z0| - hh0) - hh0 and its reach (ri + rj) + margin is at least
+  // (r_min + r_min) + margin (rounding is monotone).
+  const double gap0 = std::fabs(z0 - z0) - hh0 - hh0;
+  return gap0 < r_min + r_min + margin;
 }
 
 }  // namespace
@@ -270,13 +307,15 @@ std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::ui
   out.resize(out.capacity());
   // Each body examines at most max_candidates bodies: its own cell's later bodies and the right
   // cell first, then the (up to three) cells of the row above.
+  const auto same_level = [&](auto flat) {
+  constexpr bool kFlat = decltype(flat)::value;
   const auto scan_body = [&](std::uint32_t i, std::uint32_t near_end, std::uint32_t up_begin, std::uint32_t up_end) {
     const std::uint32_t near_len = std::min(near_end - (i + 1), max_candidates);
     const std::uint32_t up_len = std::min(up_end - up_begin, max_candidates - near_len);
     if (near_len + up_len == max_candidates) ++capped;
     if (out.size() < count + near_len + up_len) out.resize(std::max(count + near_len + up_len, 2 * out.size()));
-    count = scan_range(a, i, i + 1, near_len, margin, out.data(), count);
-    count = scan_range(a, i, up_begin, up_len, margin, out.data(), count);
+    count = scan_range<kFlat>(a, i, i + 1, near_len, margin, out.data(), count);
+    count = scan_range<kFlat>(a, i, up_begin, up_len, margin, out.data(), count);
   };
   for (int l = 0; l < level_count_; ++l) {
     const std::vector<Cell>& cells = levels_[l].cells;
@@ -314,6 +353,9 @@ std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::ui
       for (std::uint32_t i = c.begin; i < c.end; ++i) scan_body(i, near_end, up_begin, up_end);
     }
   }
+  };
+  if (flat_bodies(a, order_.size(), margin)) same_level(std::true_type{});
+  else same_level(std::false_type{});
   out.resize(count);
   // Cross-level pairs: each body of a coarser level queries the finer levels over its box.
   for (int l = 1; l < level_count_; ++l) {
