@@ -39,17 +39,21 @@ struct BodyArrays {
   const std::uint32_t* __restrict mask;
 };
 
-// kFlat: every body has the same finite z and hh, the same group, a mask accepting that group, and
-// the height gap test passes for the smallest possible reach (checked by flat_bodies): then the
-// gap and group/mask tests are known to pass for every pair and only the distance test is made.
-template <bool kFlat>
+// Which pair tests a scan makes. kFull: distance, height gap, group/mask. kFlat: every body has
+// the same finite z and hh, the same group, a mask accepting that group, and the height gap test
+// passes for the smallest possible reach (checked by test_mode), so the gap and group/mask tests
+// pass for every pair and only the distance test is made. kFlatOneRadius: kFlat and every body has
+// the same radius, so every pair's reach (ri + rj) + margin is the same number.
+enum class TestMode { kFull, kFlat, kFlatOneRadius };
+
+template <TestMode kMode>
 inline std::size_t scan_one(const BodyArrays& v, std::uint32_t i, std::uint32_t j, double xi, double yi, double zi,
                             double ri, double hhi, std::uint32_t gi, std::uint32_t mi, double margin,
                             CandidatePair* __restrict out, std::size_t count) {
   const double dx = v.x[j] - xi;
   const double dy = v.y[j] - yi;
-  const double reach = ri + v.r[j] + margin;
-  if constexpr (kFlat) {
+  const double reach = ri + (kMode == TestMode::kFlatOneRadius ? ri : v.r[j]) + margin;
+  if constexpr (kMode != TestMode::kFull) {
     out[count] = CandidatePair(i, j);
     return count + static_cast<bool>(!(dx * dx + dy * dy >= reach * reach));
   }
@@ -62,7 +66,7 @@ inline std::size_t scan_one(const BodyArrays& v, std::uint32_t i, std::uint32_t 
 
 // Two bodies at a time with SSE2 (baseline x86-64; the same IEEE double operations as the scalar
 // code, lane by lane, no FMA), then at most one scalar.
-template <bool kFlat>
+template <TestMode kMode>
 inline std::size_t scan_range(const BodyArrays& v, std::uint32_t i, std::uint32_t from, std::uint32_t len, double margin,
                               CandidatePair* __restrict out, std::size_t count) {
   const double xi = v.x[i], yi = v.y[i], zi = v.z[i], ri = v.r[i], hhi = v.hh[i];
@@ -74,55 +78,77 @@ inline std::size_t scan_range(const BodyArrays& v, std::uint32_t i, std::uint32_
     const __m128d vhhi = _mm_set1_pd(hhi), vmargin = _mm_set1_pd(margin), sign = _mm_set1_pd(-0.0);
     const __m128i vgi = _mm_set1_epi32(static_cast<int>(gi)), vmi = _mm_set1_epi32(static_cast<int>(mi));
     const __m128i zero = _mm_setzero_si128();
+    const double reach1 = ri + ri + margin;
+    const __m128d reach1_sq = _mm_set1_pd(reach1 * reach1);
     for (; j + 2 <= end; j += 2) {
       const __m128d dx = _mm_sub_pd(_mm_loadu_pd(v.x + j), vxi);
       const __m128d dy = _mm_sub_pd(_mm_loadu_pd(v.y + j), vyi);
-      const __m128d reach = _mm_add_pd(_mm_add_pd(vri, _mm_loadu_pd(v.r + j)), vmargin);
       const __m128d d2 = _mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy));
-      if constexpr (kFlat) {
-        const int bits = _mm_movemask_pd(_mm_cmpnge_pd(d2, _mm_mul_pd(reach, reach)));
-        out[count] = CandidatePair(i, j);
-        count += static_cast<std::size_t>(bits & 1);
-        out[count] = CandidatePair(i, j + 1);
-        count += static_cast<std::size_t>(bits >> 1);
-        continue;
+      int bits;
+      if constexpr (kMode == TestMode::kFlatOneRadius) {
+        bits = _mm_movemask_pd(_mm_cmpnge_pd(d2, reach1_sq));
+      } else {
+        const __m128d reach = _mm_add_pd(_mm_add_pd(vri, _mm_loadu_pd(v.r + j)), vmargin);
+        if constexpr (kMode == TestMode::kFlat) {
+          bits = _mm_movemask_pd(_mm_cmpnge_pd(d2, _mm_mul_pd(reach, reach)));
+        } else {
+          const __m128d gap_z = _mm_sub_pd(
+              _mm_sub_pd(_mm_andnot_pd(sign, _mm_sub_pd(_mm_loadu_pd(v.z + j), vzi)), vhhi), _mm_loadu_pd(v.hh + j));
+          const __m128d near = _mm_and_pd(_mm_cmpnge_pd(d2, _mm_mul_pd(reach, reach)), _mm_cmpnge_pd(gap_z, reach));
+          const __m128i gj = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(v.group + j));
+          const __m128i mj = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(v.mask + j));
+          const __m128i refused = _mm_or_si128(_mm_cmpeq_epi32(_mm_and_si128(vgi, mj), zero),
+                                               _mm_cmpeq_epi32(_mm_and_si128(gj, vmi), zero));
+          bits = _mm_movemask_pd(_mm_andnot_pd(_mm_castsi128_pd(_mm_unpacklo_epi32(refused, refused)), near));
+        }
       }
-      const __m128d gap_z = _mm_sub_pd(
-          _mm_sub_pd(_mm_andnot_pd(sign, _mm_sub_pd(_mm_loadu_pd(v.z + j), vzi)), vhhi), _mm_loadu_pd(v.hh + j));
-      const __m128d near = _mm_and_pd(_mm_cmpnge_pd(d2, _mm_mul_pd(reach, reach)), _mm_cmpnge_pd(gap_z, reach));
-      const __m128i gj = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(v.group + j));
-      const __m128i mj = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(v.mask + j));
-      const __m128i refused = _mm_or_si128(_mm_cmpeq_epi32(_mm_and_si128(vgi, mj), zero),
-                                           _mm_cmpeq_epi32(_mm_and_si128(gj, vmi), zero));
-      const __m128d hit = _mm_andnot_pd(_mm_castsi128_pd(_mm_unpacklo_epi32(refused, refused)), near);
-      const int bits = _mm_movemask_pd(hit);
       out[count] = CandidatePair(i, j);
       count += static_cast<std::size_t>(bits & 1);
       out[count] = CandidatePair(i, j + 1);
       count += static_cast<std::size_t>(bits >> 1);
     }
   }
-  if (j < end) count = scan_one<kFlat>(v, i, j, xi, yi, zi, ri, hhi, gi, mi, margin, out, count);
+  if (j < end) count = scan_one<kMode>(v, i, j, xi, yi, zi, ri, hhi, gi, mi, margin, out, count);
   return count;
 }
 
-// True when the pair tests reduce to the distance test for every pair of the n bodies (see
-// scan_one). Any NaN or infinity fails the check, and the general test is used.
-inline bool flat_bodies(const BodyArrays& v, std::size_t n, double margin) {
-  if (n == 0) return false;
-  const double z0 = v.z[0], hh0 = v.hh[0];
+// Which tests the n bodies need (see TestMode); any NaN or infinity among z, hh, r gives kFull.
+// One SSE2 pass, two bodies per step.
+inline TestMode test_mode(const BodyArrays& v, std::size_t n, double margin) {
+  if (n == 0) return TestMode::kFull;
+  const double z0 = v.z[0], hh0 = v.hh[0], r0 = v.r[0];
   const std::uint32_t g0 = v.group[0];
-  double r_min = v.r[0];
-  bool same = true;
-  for (std::size_t s = 0; s < n; ++s) {
-    same &= (v.z[s] == z0) & (v.hh[s] == hh0) & (v.group[s] == g0) & ((g0 & v.mask[s]) != 0) & (v.r[s] == v.r[s]);
-    r_min = std::min(r_min, v.r[s]);
+  const __m128d vz0 = _mm_set1_pd(z0), vhh0 = _mm_set1_pd(hh0), vr0 = _mm_set1_pd(r0);
+  const __m128i vg0 = _mm_set1_epi32(static_cast<int>(g0)), zero = _mm_setzero_si128();
+  __m128d same = _mm_castsi128_pd(_mm_set1_epi32(-1)), one_radius = same;
+  __m128d r_min = vr0;
+  __m128i refused = zero;
+  std::size_t s = 0;
+  for (; s + 2 <= n; s += 2) {
+    const __m128d r = _mm_loadu_pd(v.r + s);
+    same = _mm_and_pd(same, _mm_and_pd(_mm_and_pd(_mm_cmpeq_pd(_mm_loadu_pd(v.z + s), vz0),
+                                                  _mm_cmpeq_pd(_mm_loadu_pd(v.hh + s), vhh0)),
+                                       _mm_cmpord_pd(r, r)));
+    one_radius = _mm_and_pd(one_radius, _mm_cmpeq_pd(r, vr0));
+    r_min = _mm_min_pd(r_min, r);
+    const __m128i g = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(v.group + s));
+    const __m128i m = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(v.mask + s));
+    refused = _mm_or_si128(refused, _mm_or_si128(_mm_xor_si128(g, vg0), _mm_cmpeq_epi32(_mm_and_si128(m, vg0), zero)));
   }
-  if (!same || !std::isfinite(z0) || !std::isfinite(hh0)) return false;
+  bool ok = _mm_movemask_pd(same) == 3 && _mm_movemask_epi8(_mm_cmpeq_epi32(_mm_unpacklo_epi64(refused, zero), zero)) == 0xFFFF;
+  bool all_one_radius = _mm_movemask_pd(one_radius) == 3;
+  double rm = std::min(_mm_cvtsd_f64(r_min), _mm_cvtsd_f64(_mm_unpackhi_pd(r_min, r_min)));
+  for (; s < n; ++s) {
+    ok = ok && v.z[s] == z0 && v.hh[s] == hh0 && v.r[s] == v.r[s] && v.group[s] == g0 && (g0 & v.mask[s]) != 0;
+    all_one_radius = all_one_radius && v.r[s] == r0;
+    rm = std::min(rm, v.r[s]);
+  }
+  if (!ok || !std::isfinite(z0) || !std::isfinite(hh0)) return TestMode::kFull;
   // Every pair's gap is (|z0 - z0| - hh0) - hh0 and its reach (ri + rj) + margin is at least
   // (r_min + r_min) + margin (rounding is monotone).
   const double gap0 = std::fabs(z0 - z0) - hh0 - hh0;
-  return gap0 < r_min + r_min + margin;
+  if (!(gap0 < rm + rm + margin)) return TestMode::kFull;
+  return all_one_radius ? TestMode::kFlatOneRadius : TestMode::kFlat;
 }
 
 }  // namespace
@@ -307,15 +333,15 @@ std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::ui
   out.resize(out.capacity());
   // Each body examines at most max_candidates bodies: its own cell's later bodies and the right
   // cell first, then the (up to three) cells of the row above.
-  const auto same_level = [&](auto flat) {
-  constexpr bool kFlat = decltype(flat)::value;
+  const auto same_level = [&](auto mode) {
+  constexpr TestMode kMode = decltype(mode)::value;
   const auto scan_body = [&](std::uint32_t i, std::uint32_t near_end, std::uint32_t up_begin, std::uint32_t up_end) {
     const std::uint32_t near_len = std::min(near_end - (i + 1), max_candidates);
     const std::uint32_t up_len = std::min(up_end - up_begin, max_candidates - near_len);
     if (near_len + up_len == max_candidates) ++capped;
     if (out.size() < count + near_len + up_len) out.resize(std::max(count + near_len + up_len, 2 * out.size()));
-    count = scan_range<kFlat>(a, i, i + 1, near_len, margin, out.data(), count);
-    count = scan_range<kFlat>(a, i, up_begin, up_len, margin, out.data(), count);
+    count = scan_range<kMode>(a, i, i + 1, near_len, margin, out.data(), count);
+    count = scan_range<kMode>(a, i, up_begin, up_len, margin, out.data(), count);
   };
   for (int l = 0; l < level_count_; ++l) {
     const std::vector<Cell>& cells = levels_[l].cells;
@@ -354,8 +380,11 @@ std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::ui
     }
   }
   };
-  if (flat_bodies(a, order_.size(), margin)) same_level(std::true_type{});
-  else same_level(std::false_type{});
+  switch (test_mode(a, order_.size(), margin)) {
+    case TestMode::kFlatOneRadius: same_level(std::integral_constant<TestMode, TestMode::kFlatOneRadius>{}); break;
+    case TestMode::kFlat: same_level(std::integral_constant<TestMode, TestMode::kFlat>{}); break;
+    case TestMode::kFull: same_level(std::integral_constant<TestMode, TestMode::kFull>{}); break;
+  }
   out.resize(count);
   // Cross-level pairs: each body of a coarser level queries the finer levels over its box.
   for (int l = 1; l < level_count_; ++l) {
