@@ -333,7 +333,7 @@ std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::ui
   out.resize(out.capacity());
   // Each body examines at most max_candidates bodies: its own cell's later bodies and the right
   // cell first, then the (up to three) cells of the row above.
-  const auto same_level = [&](auto mode) {
+  const auto scan_all = [&](auto mode) {
   constexpr TestMode kMode = decltype(mode)::value;
   const auto scan_body = [&](std::uint32_t i, std::uint32_t near_end, std::uint32_t up_begin, std::uint32_t up_end) {
     const std::uint32_t near_len = std::min(near_end - (i + 1), max_candidates);
@@ -379,14 +379,9 @@ std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::ui
       for (std::uint32_t i = c.begin; i < c.end; ++i) scan_body(i, near_end, up_begin, up_end);
     }
   }
-  };
-  switch (test_mode(a, order_.size(), margin)) {
-    case TestMode::kFlatOneRadius: same_level(std::integral_constant<TestMode, TestMode::kFlatOneRadius>{}); break;
-    case TestMode::kFlat: same_level(std::integral_constant<TestMode, TestMode::kFlat>{}); break;
-    case TestMode::kFull: same_level(std::integral_constant<TestMode, TestMode::kFull>{}); break;
-  }
-  out.resize(count);
-  // Cross-level pairs: each body of a coarser level queries the finer levels over its box.
+  // Cross-level pairs: each body of a coarser level queries the finer levels over its box, row by
+  // row. The cells of one row between two keys hold one contiguous range of bodies, so a row is
+  // one range scan; each body examines at most 4 * max_candidates bodies in that order.
   for (int l = 1; l < level_count_; ++l) {
     const Level& lv = levels_[l];
     for (std::uint32_t i = lv.begin; i < lv.end; ++i) {
@@ -394,24 +389,45 @@ std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::ui
       for (int m = 0; m < l; ++m) {
         const Level& fine = levels_[m];
         if (fine.cells.empty()) continue;
-        const double reach = v.r[i] + fine.max_reach_m;
+        const double reach = a.r[i] + fine.max_reach_m;
         const double inv = 1.0 / fine.cell_m;
-        const std::int64_t cx0 = cell_coord(v.x[i] - reach, inv), cx1 = cell_coord(v.x[i] + reach, inv);
-        const std::int64_t cy0 = cell_coord(v.y[i] - reach, inv), cy1 = cell_coord(v.y[i] + reach, inv);
+        const std::int64_t cx0 = cell_coord(a.x[i] - reach, inv), cx1 = cell_coord(a.x[i] + reach, inv);
+        // Rows outside the level's occupied rows hold no bodies: skip them.
+        const std::int64_t max_cy = fine.min_cy + static_cast<std::int64_t>(fine.rows) - 3;
+        const std::int64_t cy0 = std::max(cell_coord(a.y[i] - reach, inv), fine.min_cy);
+        const std::int64_t cy1 = std::min(cell_coord(a.y[i] + reach, inv), max_cy);
+        const std::uint32_t* start = fine.start.empty() ? nullptr : fine.start.data();
         for (std::int64_t cy = cy0; cy <= cy1 && budget > 0; ++cy) {
           const std::uint64_t lo = level_key(fine, cx0, cy), hi = level_key(fine, cx1, cy);
-          auto it = std::lower_bound(fine.cells.begin(), fine.cells.end(), lo,
-                                     [](const Cell& cell, std::uint64_t key) { return cell.key < key; });
-          for (; it != fine.cells.end() && it->key <= hi && budget > 0; ++it) {
-            for (std::uint32_t j = it->begin; j < it->end && budget > 0; ++j, --budget) {
-              if (is_candidate(v, i, j, margin)) out.push_back(CandidatePair(i, j));
+          std::uint32_t row_begin = 0, row_end = 0;
+          if (start != nullptr) {
+            row_begin = start[lo];
+            row_end = start[hi + 1];
+          } else {
+            auto it = std::lower_bound(fine.cells.begin(), fine.cells.end(), lo,
+                                       [](const Cell& cell, std::uint64_t key) { return cell.key < key; });
+            if (it != fine.cells.end() && it->key <= hi) {
+              row_begin = it->begin;
+              while (it + 1 != fine.cells.end() && (it + 1)->key <= hi) ++it;
+              row_end = it->end;
             }
           }
+          const std::uint32_t len = std::min(row_end - row_begin, budget);
+          budget -= len;
+          if (out.size() < count + len) out.resize(std::max(count + len, 2 * out.size()));
+          count = scan_range<kMode>(a, i, row_begin, len, margin, out.data(), count);
         }
       }
       if (budget == 0) ++capped;
     }
   }
+  };
+  switch (test_mode(a, order_.size(), margin)) {
+    case TestMode::kFlatOneRadius: scan_all(std::integral_constant<TestMode, TestMode::kFlatOneRadius>{}); break;
+    case TestMode::kFlat: scan_all(std::integral_constant<TestMode, TestMode::kFlat>{}); break;
+    case TestMode::kFull: scan_all(std::integral_constant<TestMode, TestMode::kFull>{}); break;
+  }
+  out.resize(count);
   return capped;
 }
 
