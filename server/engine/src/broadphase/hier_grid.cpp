@@ -188,9 +188,20 @@ void HierGrid::sort_level(Level& lv, const std::int32_t* cxy, const std::uint32_
       keys[t] = key;
       ++cnt[key + 2];
     }
-    // cnt[k + 1] = first slot of key k; the scatter advances it to the first slot of key k + 1.
-    cnt[1] = lv.begin;
-    for (std::uint32_t k = 2; k < kc + 2; ++k) cnt[k] += cnt[k - 1];
+    // Prefix sums: cnt[k + 1] = first slot of key k (the scatter advances it to the first slot of
+    // key k + 1). The cell list is read off in the same pass: key k holds [cnt[k + 1], cnt[k + 2]).
+    lv.cells.resize(std::size_t{m} + 1);  // one spare: every key writes a cell, occupied or not
+    Cell* cells = lv.cells.data();
+    std::uint32_t nc = 0;
+    std::uint32_t run = lv.begin;
+    cnt[1] = run;
+    for (std::uint32_t k = 0; k < kc; ++k) {
+      const std::uint32_t b = run, c = cnt[k + 2];
+      run = b + c;
+      cnt[k + 2] = run;
+      cells[nc] = Cell(k, b, run);
+      nc += c != 0;
+    }
     std::uint32_t* order = order_.data();
     if (idx == nullptr) {
       for (std::uint32_t t = 0; t < m; ++t) order[cnt[keys[t] + 1]++] = t;
@@ -198,14 +209,6 @@ void HierGrid::sort_level(Level& lv, const std::int32_t* cxy, const std::uint32_
       for (std::uint32_t t = 0; t < m; ++t) order[cnt[keys[t] + 1]++] = idx[t];
     }
     cnt[0] = lv.begin;  // now cnt[k] = first slot of key k for every k <= kc
-    lv.cells.resize(std::size_t{m} + 1);  // one spare: every key writes a cell, occupied or not
-    Cell* cells = lv.cells.data();
-    std::uint32_t nc = 0;
-    for (std::uint32_t k = 0; k < kc; ++k) {
-      const std::uint32_t b = cnt[k], e = cnt[k + 1];
-      cells[nc] = Cell(k, b, e);
-      nc += b != e;
-    }
     lv.cells.resize(nc);
     return;
   }
