@@ -15,20 +15,11 @@ namespace {
 
 // The narrow candidate test: expanded circles in the plane, then the gap between the vertical
 // core segments. Pass-through bodies never collide: both masks must accept the other's group.
-inline bool is_candidate(const GridBodyView& v, std::uint32_t i, std::uint32_t j, double margin) {
-  const double dx = v.x[j] - v.x[i];
-  const double dy = v.y[j] - v.y[i];
-  const double reach = v.r[i] + v.r[j] + margin;
-  if (dx * dx + dy * dy >= reach * reach) return false;
-  const double gap_z = std::fabs(v.z[j] - v.z[i]) - v.hh[i] - v.hh[j];
-  if (gap_z >= reach) return false;
-  return (v.group[i] & v.mask[j]) != 0 && (v.group[j] & v.mask[i]) != 0;
-}
-
-// Tests body i against bodies [from, from + len) in order, writing every tested pair to out[count]
-// and advancing count only for candidates (no branch on the outcome: in a packed crowd the distance
-// test is close to a coin toss). out must have room for len more pairs. The arithmetic is
-// is_candidate's, term for term, and a NaN compares the same way (the tests are negated >=).
+//   reach = r_i + r_j + margin; candidate iff !(dx^2 + dy^2 >= reach^2)
+//   and !(|z_j - z_i| - hh_i - hh_j >= reach) and (group_i & mask_j) != 0 and (group_j & mask_i) != 0
+// Every scan below evaluates exactly these operations (negated >=, so a NaN compares as before)
+// without branching on the outcome: it writes each tested pair to out[count] and advances count
+// only for candidates (in a packed crowd the distance test is close to a coin toss).
 struct BodyArrays {
   const double* __restrict x;
   const double* __restrict y;
