@@ -329,13 +329,20 @@ std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::ui
   // cell first, then the (up to three) cells of the row above.
   const auto scan_all = [&](auto mode) {
   constexpr TestMode kMode = decltype(mode)::value;
+  CandidatePair* buf = out.data();
+  std::size_t room = out.size();
+  const auto grow = [&](std::size_t need) {
+    out.resize(std::max(need, 2 * out.size()));
+    buf = out.data();
+    room = out.size();
+  };
   const auto scan_body = [&](std::uint32_t i, std::uint32_t near_end, std::uint32_t up_begin, std::uint32_t up_end) {
     const std::uint32_t near_len = std::min(near_end - (i + 1), max_candidates);
     const std::uint32_t up_len = std::min(up_end - up_begin, max_candidates - near_len);
     if (near_len + up_len == max_candidates) ++capped;
-    if (out.size() < count + near_len + up_len) out.resize(std::max(count + near_len + up_len, 2 * out.size()));
-    count = scan_range<kMode>(a, i, i + 1, near_len, margin, out.data(), count);
-    count = scan_range<kMode>(a, i, up_begin, up_len, margin, out.data(), count);
+    if (room < count + near_len + up_len) grow(count + near_len + up_len);
+    count = scan_range<kMode>(a, i, i + 1, near_len, margin, buf, count);
+    count = scan_range<kMode>(a, i, up_begin, up_len, margin, buf, count);
   };
   for (int l = 0; l < level_count_; ++l) {
     const std::vector<Cell>& cells = levels_[l].cells;
@@ -408,8 +415,8 @@ std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::ui
           }
           const std::uint32_t len = std::min(row_end - row_begin, budget);
           budget -= len;
-          if (out.size() < count + len) out.resize(std::max(count + len, 2 * out.size()));
-          count = scan_range<kMode>(a, i, row_begin, len, margin, out.data(), count);
+          if (room < count + len) grow(count + len);
+          count = scan_range<kMode>(a, i, row_begin, len, margin, buf, count);
         }
       }
       if (budget == 0) ++capped;
