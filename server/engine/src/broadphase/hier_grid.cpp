@@ -4,6 +4,9 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
+
+#include <emmintrin.h>
 
 #include "broadphase/cell_key.h"
 
@@ -12,31 +15,131 @@ namespace {
 
 // The narrow candidate test: expanded circles in the plane, then the gap between the vertical
 // core segments. Pass-through bodies never collide: both masks must accept the other's group.
-inline bool is_candidate(const GridBodyView& v, std::uint32_t i, std::uint32_t j, double margin) {
-  const double dx = v.x[j] - v.x[i];
-  const double dy = v.y[j] - v.y[i];
-  const double reach = v.r[i] + v.r[j] + margin;
-  if (dx * dx + dy * dy >= reach * reach) return false;
-  const double gap_z = std::fabs(v.z[j] - v.z[i]) - v.hh[i] - v.hh[j];
-  if (gap_z >= reach) return false;
-  return (v.group[i] & v.mask[j]) != 0 && (v.group[j] & v.mask[i]) != 0;
+//   reach = r_i + r_j + margin; candidate iff !(dx^2 + dy^2 >= reach^2)
+//   and !(|z_j - z_i| - hh_i - hh_j >= reach) and (group_i & mask_j) != 0 and (group_j & mask_i) != 0
+// Every scan below evaluates exactly these operations (negated >=, so a NaN compares as before)
+// without branching on the outcome: it writes each tested pair to out[count] and advances count
+// only for candidates (in a packed crowd the distance test is close to a coin toss).
+struct BodyArrays {
+  const double* __restrict x;
+  const double* __restrict y;
+  const double* __restrict z;
+  const double* __restrict r;
+  const double* __restrict hh;
+  const std::uint32_t* __restrict group;
+  const std::uint32_t* __restrict mask;
+};
+
+// Which pair tests a scan makes. kFull: distance, height gap, group/mask. kFlat: every body has
+// the same finite z and hh, the same group, a mask accepting that group, and the height gap test
+// passes for the smallest possible reach (checked by test_mode), so the gap and group/mask tests
+// pass for every pair and only the distance test is made. kFlatOneRadius: kFlat and every body has
+// the same radius, so every pair's reach (ri + rj) + margin is the same number.
+enum class TestMode { kFull, kFlat, kFlatOneRadius };
+
+template <TestMode kMode>
+inline std::size_t scan_one(const BodyArrays& v, std::uint32_t i, std::uint32_t j, double xi, double yi, double zi,
+                            double ri, double hhi, std::uint32_t gi, std::uint32_t mi, double margin,
+                            CandidatePair* __restrict out, std::size_t count) {
+  const double dx = v.x[j] - xi;
+  const double dy = v.y[j] - yi;
+  const double reach = ri + (kMode == TestMode::kFlatOneRadius ? ri : v.r[j]) + margin;
+  if constexpr (kMode != TestMode::kFull) {
+    out[count] = CandidatePair(i, j);
+    return count + static_cast<bool>(!(dx * dx + dy * dy >= reach * reach));
+  }
+  const double gap_z = std::fabs(v.z[j] - zi) - hhi - v.hh[j];
+  const bool hit = static_cast<bool>(!(dx * dx + dy * dy >= reach * reach) & !(gap_z >= reach) &
+                                     ((gi & v.mask[j]) != 0) & ((v.group[j] & mi) != 0));
+  out[count] = CandidatePair(i, j);
+  return count + hit;
 }
 
-// Tests body i against bodies [from, to) in order, one unit of budget each, appending candidates.
-// Body i's values are read once; the arithmetic is is_candidate's, term for term.
-inline void scan_range(const GridBodyView& v, std::uint32_t i, std::uint32_t from, std::uint32_t to, double margin,
-                       std::uint32_t& budget, std::vector<CandidatePair>& out) {
-  if (from >= to || budget == 0) return;
-  const std::uint32_t end = to - from > budget ? from + budget : to;
-  budget -= end - from;
-  const double xi = v.x[i], yi = v.y[i], ri = v.r[i];
-  for (std::uint32_t j = from; j < end; ++j) {
-    const double dx = v.x[j] - xi;
-    const double dy = v.y[j] - yi;
-    const double reach = ri + v.r[j] + margin;
-    if (dx * dx + dy * dy >= reach * reach) continue;
-    if (is_candidate(v, i, j, margin)) out.push_back({i, j});
+// Two bodies at a time with SSE2 (baseline x86-64; the same IEEE double operations as the scalar
+// code, lane by lane, no FMA), then at most one scalar.
+template <TestMode kMode>
+inline std::size_t scan_range(const BodyArrays& v, std::uint32_t i, std::uint32_t from, std::uint32_t len, double margin,
+                              CandidatePair* __restrict out, std::size_t count) {
+  const double xi = v.x[i], yi = v.y[i], zi = v.z[i], ri = v.r[i], hhi = v.hh[i];
+  const std::uint32_t gi = v.group[i], mi = v.mask[i];
+  const std::uint32_t end = from + len;
+  std::uint32_t j = from;
+  if (len >= 2) {
+    const __m128d vxi = _mm_set1_pd(xi), vyi = _mm_set1_pd(yi), vzi = _mm_set1_pd(zi), vri = _mm_set1_pd(ri);
+    const __m128d vhhi = _mm_set1_pd(hhi), vmargin = _mm_set1_pd(margin), sign = _mm_set1_pd(-0.0);
+    const __m128i vgi = _mm_set1_epi32(static_cast<int>(gi)), vmi = _mm_set1_epi32(static_cast<int>(mi));
+    const __m128i zero = _mm_setzero_si128();
+    const double reach1 = ri + ri + margin;
+    const __m128d reach1_sq = _mm_set1_pd(reach1 * reach1);
+    for (; j + 2 <= end; j += 2) {
+      const __m128d dx = _mm_sub_pd(_mm_loadu_pd(v.x + j), vxi);
+      const __m128d dy = _mm_sub_pd(_mm_loadu_pd(v.y + j), vyi);
+      const __m128d d2 = _mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy));
+      int bits;
+      if constexpr (kMode == TestMode::kFlatOneRadius) {
+        bits = _mm_movemask_pd(_mm_cmpnge_pd(d2, reach1_sq));
+      } else {
+        const __m128d reach = _mm_add_pd(_mm_add_pd(vri, _mm_loadu_pd(v.r + j)), vmargin);
+        if constexpr (kMode == TestMode::kFlat) {
+          bits = _mm_movemask_pd(_mm_cmpnge_pd(d2, _mm_mul_pd(reach, reach)));
+        } else {
+          const __m128d gap_z = _mm_sub_pd(
+              _mm_sub_pd(_mm_andnot_pd(sign, _mm_sub_pd(_mm_loadu_pd(v.z + j), vzi)), vhhi), _mm_loadu_pd(v.hh + j));
+          const __m128d near = _mm_and_pd(_mm_cmpnge_pd(d2, _mm_mul_pd(reach, reach)), _mm_cmpnge_pd(gap_z, reach));
+          const __m128i gj = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(v.group + j));
+          const __m128i mj = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(v.mask + j));
+          const __m128i refused = _mm_or_si128(_mm_cmpeq_epi32(_mm_and_si128(vgi, mj), zero),
+                                               _mm_cmpeq_epi32(_mm_and_si128(gj, vmi), zero));
+          bits = _mm_movemask_pd(_mm_andnot_pd(_mm_castsi128_pd(_mm_unpacklo_epi32(refused, refused)), near));
+        }
+      }
+      out[count] = CandidatePair(i, j);
+      count += static_cast<std::size_t>(bits & 1);
+      out[count] = CandidatePair(i, j + 1);
+      count += static_cast<std::size_t>(bits >> 1);
+    }
   }
+  if (j < end) count = scan_one<kMode>(v, i, j, xi, yi, zi, ri, hhi, gi, mi, margin, out, count);
+  return count;
+}
+
+// Which tests the n bodies need (see TestMode); any NaN or infinity among z, hh, r gives kFull.
+// One SSE2 pass, two bodies per step.
+inline TestMode test_mode(const BodyArrays& v, std::size_t n, double margin) {
+  if (n == 0) return TestMode::kFull;
+  const double z0 = v.z[0], hh0 = v.hh[0], r0 = v.r[0];
+  const std::uint32_t g0 = v.group[0];
+  const __m128d vz0 = _mm_set1_pd(z0), vhh0 = _mm_set1_pd(hh0), vr0 = _mm_set1_pd(r0);
+  const __m128i vg0 = _mm_set1_epi32(static_cast<int>(g0)), zero = _mm_setzero_si128();
+  __m128d same = _mm_castsi128_pd(_mm_set1_epi32(-1)), one_radius = same;
+  __m128d r_min = vr0;
+  __m128i refused = zero;
+  std::size_t s = 0;
+  for (; s + 2 <= n; s += 2) {
+    const __m128d r = _mm_loadu_pd(v.r + s);
+    same = _mm_and_pd(same, _mm_and_pd(_mm_and_pd(_mm_cmpeq_pd(_mm_loadu_pd(v.z + s), vz0),
+                                                  _mm_cmpeq_pd(_mm_loadu_pd(v.hh + s), vhh0)),
+                                       _mm_cmpord_pd(r, r)));
+    one_radius = _mm_and_pd(one_radius, _mm_cmpeq_pd(r, vr0));
+    r_min = _mm_min_pd(r_min, r);
+    const __m128i g = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(v.group + s));
+    const __m128i m = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(v.mask + s));
+    refused = _mm_or_si128(refused, _mm_or_si128(_mm_xor_si128(g, vg0), _mm_cmpeq_epi32(_mm_and_si128(m, vg0), zero)));
+  }
+  bool ok = _mm_movemask_pd(same) == 3 && _mm_movemask_epi8(_mm_cmpeq_epi32(_mm_unpacklo_epi64(refused, zero), zero)) == 0xFFFF;
+  bool all_one_radius = _mm_movemask_pd(one_radius) == 3;
+  double rm = std::min(_mm_cvtsd_f64(r_min), _mm_cvtsd_f64(_mm_unpackhi_pd(r_min, r_min)));
+  for (; s < n; ++s) {
+    ok = ok && v.z[s] == z0 && v.hh[s] == hh0 && v.r[s] == v.r[s] && v.group[s] == g0 && (g0 & v.mask[s]) != 0;
+    all_one_radius = all_one_radius && v.r[s] == r0;
+    rm = std::min(rm, v.r[s]);
+  }
+  if (!ok || !std::isfinite(z0) || !std::isfinite(hh0)) return TestMode::kFull;
+  // Every pair's gap is (|z0 - z0| - hh0) - hh0 and its reach (ri + rj) + margin is at least
+  // (r_min + r_min) + margin (rounding is monotone).
+  const double gap0 = std::fabs(z0 - z0) - hh0 - hh0;
+  if (!(gap0 < rm + rm + margin)) return TestMode::kFull;
+  return all_one_radius ? TestMode::kFlatOneRadius : TestMode::kFlat;
 }
 
 }  // namespace
@@ -49,22 +152,127 @@ std::uint64_t HierGrid::level_key(const Level& lv, std::int64_t cx, std::int64_t
   return row * lv.stride + col;
 }
 
+void HierGrid::sort_level(Level& lv, const std::int32_t* cxy, const std::uint32_t* idx, std::uint32_t m,
+                          std::int64_t min_cx, std::int64_t min_cy, std::int64_t max_cx, std::int64_t max_cy) {
+  lv.min_cx = min_cx;
+  lv.min_cy = min_cy;
+  lv.stride = static_cast<std::uint64_t>(max_cx - min_cx) + 3;
+  lv.rows = static_cast<std::uint64_t>(max_cy - min_cy) + 3;
+  const std::uint64_t key_count = lv.stride * lv.rows;
+  // Stable counting sort by cell key when the key range is at most a few times the body count:
+  // one pass to count, one to scatter, and the cell list falls out of the counts. Equal keys keep
+  // the dense order, so the result is the stable radix sort's, exactly.
+  if (lv.stride <= (std::uint64_t{1} << 32) && lv.rows <= (std::uint64_t{1} << 32) &&
+      key_count <= 8 * std::uint64_t{m} + 4096) {
+    const auto kc = static_cast<std::uint32_t>(key_count);
+    const auto stride = static_cast<std::uint32_t>(lv.stride);
+    const auto ox = static_cast<std::uint32_t>(min_cx) - 1u, oy = static_cast<std::uint32_t>(min_cy) - 1u;
+    keys_.resize(m);
+    if (lv.start.size() < std::size_t{kc} + 2) lv.start.resize(std::size_t{kc} + 2);
+    std::uint32_t* cnt = lv.start.data();
+    std::fill(cnt, cnt + kc + 2, 0u);
+    std::uint32_t* keys = keys_.data();
+    // Coordinates are inside the box: the key arithmetic cannot wrap.
+    for (std::uint32_t t = 0; t < m; ++t) {
+      const std::uint32_t key =
+          (static_cast<std::uint32_t>(cxy[2 * t + 1]) - oy) * stride + (static_cast<std::uint32_t>(cxy[2 * t]) - ox);
+      keys[t] = key;
+      ++cnt[key + 2];
+    }
+    // Prefix sums: cnt[k + 1] = first slot of key k (the scatter advances it to the first slot of
+    // key k + 1). The cell list is read off in the same pass: key k holds [cnt[k + 1], cnt[k + 2]).
+    lv.cells.resize(std::size_t{m} + 1);  // one spare: every key writes a cell, occupied or not
+    Cell* cells = lv.cells.data();
+    std::uint32_t nc = 0;
+    std::uint32_t run = lv.begin;
+    cnt[1] = run;
+    for (std::uint32_t k = 0; k < kc; ++k) {
+      const std::uint32_t b = run, c = cnt[k + 2];
+      run = b + c;
+      cnt[k + 2] = run;
+      cells[nc] = Cell(k, b, run);
+      nc += c != 0;
+    }
+    std::uint32_t* order = order_.data();
+    if (idx == nullptr) {
+      for (std::uint32_t t = 0; t < m; ++t) order[cnt[keys[t] + 1]++] = t;
+    } else {
+      for (std::uint32_t t = 0; t < m; ++t) order[cnt[keys[t] + 1]++] = idx[t];
+    }
+    cnt[0] = lv.begin;  // now cnt[k] = first slot of key k for every k <= kc
+    lv.cells.resize(nc);
+    return;
+  }
+  lv.start.clear();
+  items_.resize(m);
+  for (std::uint32_t t = 0; t < m; ++t) {
+    items_[t] = {level_key(lv, cxy[2 * t], cxy[2 * t + 1]), idx == nullptr ? t : idx[t]};
+  }
+  radix_sort(items_, scratch_, key_count - 1);
+  std::uint32_t s = lv.begin;
+  for (std::size_t k = 0; k < items_.size(); ++k, ++s) {
+    order_[s] = items_[k].index;
+    if (lv.cells.empty() || lv.cells.back().key != items_[k].key) lv.cells.push_back(Cell(items_[k].key, s, s));
+    lv.cells.back().end = s + 1;
+  }
+}
+
 void HierGrid::build(const double* x, const double* y, const double* r, std::size_t n, double margin_m,
                      double cell0_m) {
   if (levels_.size() < kMaxLevels) levels_.resize(kMaxLevels);
   level_of_.resize(n);
-  level_count_ = 1;
-  std::array<std::uint32_t, kMaxLevels> count{};
-  for (std::size_t i = 0; i < n; ++i) {
-    const double diameter = 2.0 * (r[i] + margin_m);
-    int l = 0;
-    double cell = cell0_m;
-    while (cell < diameter && l + 1 < kMaxLevels) { cell *= 2.0; ++l; }
-    level_of_[i] = static_cast<std::uint8_t>(l);
-    ++count[l];
-    level_count_ = std::max(level_count_, l + 1);
-  }
+  coords_.resize(2 * n);
   order_.resize(n);
+  std::array<std::uint32_t, kMaxLevels> count{};
+  // One pass computes the level-0 cell coordinates, their box and the largest reach; if no body is
+  // too big for level 0 (the common case) that is all the one-level sort needs. The coordinates of
+  // x and y are computed together with SSE2: clamp(floor(v * inv)) is floor(clamp(v * inv)) for
+  // integer bounds, and floor is truncation minus one where truncation rounded up (exact in this
+  // range); the box is kept as doubles, which hold these integers exactly.
+  int top = 0;
+  const double inv0 = 1.0 / cell0_m;
+  std::int64_t min_cx = INT64_MAX, min_cy = INT64_MAX, max_cx = INT64_MIN, max_cy = INT64_MIN;
+  double max_reach = 0.0;
+  {
+    std::int32_t* coords = coords_.data();
+    const __m128d vinv = _mm_set1_pd(inv0), lo = _mm_set1_pd(-kCellCoordLimit), hi = _mm_set1_pd(kCellCoordLimit);
+    const __m128d one = _mm_set1_pd(1.0);
+    __m128d vmin = _mm_set1_pd(kCellCoordLimit), vmax = _mm_set1_pd(-kCellCoordLimit);
+    for (std::size_t i = 0; i < n; ++i) {
+      const __m128d a = _mm_min_pd(_mm_max_pd(_mm_mul_pd(_mm_set_pd(y[i], x[i]), vinv), lo), hi);
+      const __m128i t = _mm_cvttpd_epi32(a);
+      const __m128d tf = _mm_cvtepi32_pd(t);
+      const __m128d up = _mm_cmpgt_pd(tf, a);
+      const __m128d f = _mm_sub_pd(tf, _mm_and_pd(up, one));
+      _mm_storel_epi64(reinterpret_cast<__m128i*>(coords + 2 * i), _mm_cvttpd_epi32(f));
+      vmin = _mm_min_pd(vmin, f);
+      vmax = _mm_max_pd(vmax, f);
+      max_reach = std::max(max_reach, r[i] + margin_m);
+    }
+    if (n > 0) {
+      min_cx = static_cast<std::int64_t>(_mm_cvtsd_f64(vmin));
+      min_cy = static_cast<std::int64_t>(_mm_cvtsd_f64(_mm_unpackhi_pd(vmin, vmin)));
+      max_cx = static_cast<std::int64_t>(_mm_cvtsd_f64(vmax));
+      max_cy = static_cast<std::int64_t>(_mm_cvtsd_f64(_mm_unpackhi_pd(vmax, vmax)));
+    }
+  }
+  // diameter = 2 (r + margin) is monotone in r, so the largest reach decides whether every body
+  // fits level 0 (the per-body test below is !(cell0 < diameter) for level 0).
+  if (!(cell0_m < 2.0 * max_reach)) {
+    count[0] = static_cast<std::uint32_t>(n);
+  } else {
+    std::uint8_t* level_of = level_of_.data();
+    for (std::size_t i = 0; i < n; ++i) {
+      const double diameter = 2.0 * (r[i] + margin_m);
+      int l = 0;
+      double cell = cell0_m;
+      while (cell < diameter && l + 1 < kMaxLevels) { cell *= 2.0; ++l; }
+      level_of[i] = static_cast<std::uint8_t>(l);
+      ++count[l];
+      top = std::max(top, l);
+    }
+  }
+  level_count_ = top + 1;
   std::uint32_t offset = 0;
   double cell = cell0_m;
   for (int l = 0; l < level_count_; ++l) {
@@ -77,50 +285,82 @@ void HierGrid::build(const double* x, const double* y, const double* r, std::siz
     offset = lv.end;
     cell *= 2.0;
   }
-  // Sort each level by cell key. Items keep the dense order for equal keys (stable sort), so the
-  // result depends only on positions and the dense order.
+  if (level_count_ == 1) {
+    if (n == 0) return;
+    levels_[0].max_reach_m = max_reach;
+    sort_level(levels_[0], coords_.data(), nullptr, static_cast<std::uint32_t>(n), min_cx, min_cy, max_cx, max_cy);
+    return;
+  }
+  // Several levels: sort each level by cell key. Items keep the dense order for equal keys (stable
+  // sort), so the result depends only on positions and the dense order.
   for (int l = 0; l < level_count_; ++l) {
     Level& lv = levels_[l];
-    if (lv.begin == lv.end) continue;
+    if (lv.begin == lv.end) { lv.start.clear(); continue; }
     const double inv = 1.0 / lv.cell_m;
     const std::uint32_t count_l = lv.end - lv.begin;
-    items_.resize(count_l);
-    coords_.resize(2 * std::size_t{count_l});
-    std::int64_t min_cx = INT64_MAX, min_cy = INT64_MAX, max_cx = INT64_MIN, max_cy = INT64_MIN;
-    const bool one_level = level_count_ == 1;  // the common case: no per-body level test
-    std::size_t m = 0;
+    level_index_.resize(count_l);
+    min_cx = INT64_MAX; min_cy = INT64_MAX; max_cx = INT64_MIN; max_cy = INT64_MIN;
+    std::uint32_t m = 0;
     for (std::size_t i = 0; i < n; ++i) {
-      if (!one_level && level_of_[i] != l) continue;
+      if (level_of_[i] != l) continue;
       const std::int64_t cx = cell_coord(x[i], inv), cy = cell_coord(y[i], inv);
-      coords_[2 * m] = cx;
-      coords_[2 * m + 1] = cy;
+      coords_[2 * m] = static_cast<std::int32_t>(cx);
+      coords_[2 * m + 1] = static_cast<std::int32_t>(cy);
       min_cx = std::min(min_cx, cx); max_cx = std::max(max_cx, cx);
       min_cy = std::min(min_cy, cy); max_cy = std::max(max_cy, cy);
-      items_[m] = {0, static_cast<std::uint32_t>(i)};
+      level_index_[m] = static_cast<std::uint32_t>(i);
       lv.max_reach_m = std::max(lv.max_reach_m, r[i] + margin_m);
       ++m;
     }
-    lv.min_cx = min_cx;
-    lv.min_cy = min_cy;
-    lv.stride = static_cast<std::uint64_t>(max_cx - min_cx) + 3;
-    lv.rows = static_cast<std::uint64_t>(max_cy - min_cy) + 3;
-    for (std::size_t k = 0; k < items_.size(); ++k) items_[k].key = level_key(lv, coords_[2 * k], coords_[2 * k + 1]);
-    radix_sort(items_, scratch_, lv.stride * lv.rows - 1);
-    std::uint32_t s = lv.begin;
-    for (std::size_t k = 0; k < items_.size(); ++k, ++s) {
-      order_[s] = items_[k].index;
-      if (lv.cells.empty() || lv.cells.back().key != items_[k].key) lv.cells.push_back({items_[k].key, s, s});
-      lv.cells.back().end = s + 1;
-    }
+    sort_level(lv, coords_.data(), level_index_.data(), m, min_cx, min_cy, max_cx, max_cy);
   }
 }
 
 std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::uint32_t max_candidates,
                                    std::vector<CandidatePair>& out) const {
   std::uint32_t capped = 0;
+  const BodyArrays a{v.x, v.y, v.z, v.r, v.hh, v.group, v.mask};
+  // Pairs are written to out[count] ahead of the test; out is grown to its capacity first (free:
+  // CandidatePair's default constructor does nothing) and cut back to the hits at the end, which
+  // never releases capacity, so after warm-up no tick allocates.
+  std::size_t count = out.size();
+  out.resize(out.capacity());
+  // Each body examines at most max_candidates bodies: its own cell's later bodies and the right
+  // cell first, then the (up to three) cells of the row above.
+  const auto scan_all = [&](auto mode) {
+  constexpr TestMode kMode = decltype(mode)::value;
+  CandidatePair* buf = out.data();
+  std::size_t room = out.size();
+  const auto grow = [&](std::size_t need) {
+    out.resize(std::max(need, 2 * out.size()));
+    buf = out.data();
+    room = out.size();
+  };
+  const auto scan_body = [&](std::uint32_t i, std::uint32_t near_end, std::uint32_t up_begin, std::uint32_t up_end) {
+    const std::uint32_t near_len = std::min(near_end - (i + 1), max_candidates);
+    const std::uint32_t up_len = std::min(up_end - up_begin, max_candidates - near_len);
+    if (near_len + up_len == max_candidates) ++capped;
+    if (room < count + near_len + up_len) grow(count + near_len + up_len);
+    count = scan_range<kMode>(a, i, i + 1, near_len, margin, buf, count);
+    count = scan_range<kMode>(a, i, up_begin, up_len, margin, buf, count);
+  };
   for (int l = 0; l < level_count_; ++l) {
     const std::vector<Cell>& cells = levels_[l].cells;
     const std::uint64_t stride = levels_[l].stride;
+    if (!levels_[l].start.empty()) {
+      // Counting-sorted level: start[k] is the first body of key k for every key, so the right
+      // neighbour ends at start[key + 2] and the row above spans [start[key + stride - 1],
+      // start[key + stride + 2]) (empty cells contribute nothing). Occupied keys are interior,
+      // so key + stride + 2 <= stride * rows.
+      const std::uint32_t* start = levels_[l].start.data();
+      for (const Cell& c : cells) {
+        const std::uint64_t k = c.key;
+        const std::uint32_t near_end = start[k + 2];
+        const std::uint32_t up_begin = start[k + stride - 1], up_end = start[k + stride + 2];
+        for (std::uint32_t i = c.begin; i < c.end; ++i) scan_body(i, near_end, up_begin, up_end);
+      }
+      continue;
+    }
     std::size_t up = 0;  // first cell at or after (cx - 1, cy + 1); only moves forward
     for (std::size_t k = 0; k < cells.size(); ++k) {
       const Cell& c = cells[k];
@@ -137,15 +377,12 @@ std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::ui
         up_begin = cells[up].begin;
         up_end = cells[q].end;
       }
-      for (std::uint32_t i = c.begin; i < c.end; ++i) {
-        std::uint32_t budget = max_candidates;
-        scan_range(v, i, i + 1, near_end, margin, budget, out);
-        scan_range(v, i, up_begin, up_end, margin, budget, out);
-        if (budget == 0) ++capped;
-      }
+      for (std::uint32_t i = c.begin; i < c.end; ++i) scan_body(i, near_end, up_begin, up_end);
     }
   }
-  // Cross-level pairs: each body of a coarser level queries the finer levels over its box.
+  // Cross-level pairs: each body of a coarser level queries the finer levels over its box, row by
+  // row. The cells of one row between two keys hold one contiguous range of bodies, so a row is
+  // one range scan; each body examines at most 4 * max_candidates bodies in that order.
   for (int l = 1; l < level_count_; ++l) {
     const Level& lv = levels_[l];
     for (std::uint32_t i = lv.begin; i < lv.end; ++i) {
@@ -153,24 +390,45 @@ std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::ui
       for (int m = 0; m < l; ++m) {
         const Level& fine = levels_[m];
         if (fine.cells.empty()) continue;
-        const double reach = v.r[i] + fine.max_reach_m;
+        const double reach = a.r[i] + fine.max_reach_m;
         const double inv = 1.0 / fine.cell_m;
-        const std::int64_t cx0 = cell_coord(v.x[i] - reach, inv), cx1 = cell_coord(v.x[i] + reach, inv);
-        const std::int64_t cy0 = cell_coord(v.y[i] - reach, inv), cy1 = cell_coord(v.y[i] + reach, inv);
+        const std::int64_t cx0 = cell_coord(a.x[i] - reach, inv), cx1 = cell_coord(a.x[i] + reach, inv);
+        // Rows outside the level's occupied rows hold no bodies: skip them.
+        const std::int64_t max_cy = fine.min_cy + static_cast<std::int64_t>(fine.rows) - 3;
+        const std::int64_t cy0 = std::max(cell_coord(a.y[i] - reach, inv), fine.min_cy);
+        const std::int64_t cy1 = std::min(cell_coord(a.y[i] + reach, inv), max_cy);
+        const std::uint32_t* start = fine.start.empty() ? nullptr : fine.start.data();
         for (std::int64_t cy = cy0; cy <= cy1 && budget > 0; ++cy) {
           const std::uint64_t lo = level_key(fine, cx0, cy), hi = level_key(fine, cx1, cy);
-          auto it = std::lower_bound(fine.cells.begin(), fine.cells.end(), lo,
-                                     [](const Cell& cell, std::uint64_t key) { return cell.key < key; });
-          for (; it != fine.cells.end() && it->key <= hi && budget > 0; ++it) {
-            for (std::uint32_t j = it->begin; j < it->end && budget > 0; ++j, --budget) {
-              if (is_candidate(v, i, j, margin)) out.push_back({i, j});
+          std::uint32_t row_begin = 0, row_end = 0;
+          if (start != nullptr) {
+            row_begin = start[lo];
+            row_end = start[hi + 1];
+          } else {
+            auto it = std::lower_bound(fine.cells.begin(), fine.cells.end(), lo,
+                                       [](const Cell& cell, std::uint64_t key) { return cell.key < key; });
+            if (it != fine.cells.end() && it->key <= hi) {
+              row_begin = it->begin;
+              while (it + 1 != fine.cells.end() && (it + 1)->key <= hi) ++it;
+              row_end = it->end;
             }
           }
+          const std::uint32_t len = std::min(row_end - row_begin, budget);
+          budget -= len;
+          if (room < count + len) grow(count + len);
+          count = scan_range<kMode>(a, i, row_begin, len, margin, buf, count);
         }
       }
       if (budget == 0) ++capped;
     }
   }
+  };
+  switch (test_mode(a, order_.size(), margin)) {
+    case TestMode::kFlatOneRadius: scan_all(std::integral_constant<TestMode, TestMode::kFlatOneRadius>{}); break;
+    case TestMode::kFlat: scan_all(std::integral_constant<TestMode, TestMode::kFlat>{}); break;
+    case TestMode::kFull: scan_all(std::integral_constant<TestMode, TestMode::kFull>{}); break;
+  }
+  out.resize(count);
   return capped;
 }
 

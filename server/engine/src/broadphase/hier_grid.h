@@ -24,6 +24,10 @@
 namespace throng::detail {
 
 struct CandidatePair {
+  // The default constructor leaves a and b unset on purpose: find_pairs grows its output ahead of
+  // use (resize costs nothing then) and writes every tested pair, keeping only the hits.
+  CandidatePair() {}
+  CandidatePair(std::uint32_t a_, std::uint32_t b_) : a(a_), b(b_) {}
   std::uint32_t a;  // solver index (position in order())
   std::uint32_t b;
 };
@@ -65,6 +69,8 @@ class HierGrid {
 
  private:
   struct Cell {
+    Cell() {}  // unset: build() sizes the cell list ahead and keeps only the occupied cells
+    Cell(std::uint64_t key_, std::uint32_t begin_, std::uint32_t end_) : key(key_), begin(begin_), end(end_) {}
     std::uint64_t key;
     std::uint32_t begin;  // solver index range [begin, end)
     std::uint32_t end;
@@ -82,12 +88,23 @@ class HierGrid {
     double max_reach_m = 0.0;  // largest r + margin of a body at this level
     std::uint32_t begin = 0, end = 0;  // solver index range of the level
     std::vector<Cell> cells;
+    // When the level's key range is small next to its body count (any crowd), the level is sorted
+    // by counting and start[k] is the first solver index of key k (start[k + 1] its end), for every
+    // key of the level: find_pairs then finds neighbour cells by index. Empty otherwise (sparse
+    // levels are radix-sorted).
+    std::vector<std::uint32_t> start;
   };
 
   // Key of cell (cx, cy) of a level; coordinates outside the level's box are clamped onto its
   // empty border, which is what range queries from coarser levels want.
   static std::uint64_t level_key(const Level& lv, std::int64_t cx, std::int64_t cy);
-  std::vector<std::int64_t> coords_;  // cx, cy per body of the level being built
+  // Sorts the m bodies of a level (cell coordinates cxy, dense indices idx or, if null, 0..m-1,
+  // in dense order) into order_[lv.begin, lv.end) and builds lv.cells (and lv.start).
+  void sort_level(Level& lv, const std::int32_t* cxy, const std::uint32_t* idx, std::uint32_t m, std::int64_t min_cx,
+                  std::int64_t min_cy, std::int64_t max_cx, std::int64_t max_cy);
+  std::vector<std::int32_t> coords_;  // cx, cy per body of the level being built (cell_coord fits 32 bits)
+  std::vector<std::uint32_t> level_index_;  // dense index per body of the level being built
+  std::vector<std::uint32_t> keys_;   // cell key per body of the level being built (counting sort)
 
   std::vector<Level> levels_;
   int level_count_ = 0;
