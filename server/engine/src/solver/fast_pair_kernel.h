@@ -48,6 +48,36 @@ inline void store_body_pair(float* u, std::uint32_t i0, std::uint32_t i1, __m128
   _mm_storel_pi(reinterpret_cast<__m64*>(u + 2 * i0), v);
   _mm_storeh_pi(reinterpret_cast<__m64*>(u + 2 * i1), v);
 }
+
+// Four consecutive fast pairs k..k+3 of a level, one lane each: their bodies, the bodies'
+// displacements, and the pairs' current separations (start separation + displacement difference).
+struct FourPairs {
+  std::uint32_t a0, a1, a2, a3, b0, b1, b2, b3;
+  __m128 ax, ay, bx, by, dx, dy;
+
+  FourPairs(const float* u, const PairSchedule& s, std::uint32_t k)
+      : a0(s.a[k]), a1(s.a[k + 1]), a2(s.a[k + 2]), a3(s.a[k + 3]),
+        b0(s.b[k]), b1(s.b[k + 1]), b2(s.b[k + 2]), b3(s.b[k + 3]) {
+    const __m128 a01 = load_body_pair(u, a0, a1), a23 = load_body_pair(u, a2, a3);
+    const __m128 b01 = load_body_pair(u, b0, b1), b23 = load_body_pair(u, b2, b3);
+    ax = _mm_shuffle_ps(a01, a23, _MM_SHUFFLE(2, 0, 2, 0));
+    ay = _mm_shuffle_ps(a01, a23, _MM_SHUFFLE(3, 1, 3, 1));
+    bx = _mm_shuffle_ps(b01, b23, _MM_SHUFFLE(2, 0, 2, 0));
+    by = _mm_shuffle_ps(b01, b23, _MM_SHUFFLE(3, 1, 3, 1));
+    dx = _mm_add_ps(_mm_loadu_ps(s.sx.data() + k), _mm_sub_ps(bx, ax));
+    dy = _mm_add_ps(_mm_loadu_ps(s.sy.data() + k), _mm_sub_ps(by, ay));
+  }
+
+  // Moves a by -n * move_a and b by +n * move_b, lane by lane, and stores the displacements.
+  void push_apart(float* u, __m128 nx, __m128 ny, __m128 move_a, __m128 move_b) const {
+    const __m128 ax2 = _mm_sub_ps(ax, _mm_mul_ps(nx, move_a)), ay2 = _mm_sub_ps(ay, _mm_mul_ps(ny, move_a));
+    const __m128 bx2 = _mm_add_ps(bx, _mm_mul_ps(nx, move_b)), by2 = _mm_add_ps(by, _mm_mul_ps(ny, move_b));
+    store_body_pair(u, a0, a1, _mm_unpacklo_ps(ax2, ay2));
+    store_body_pair(u, a2, a3, _mm_unpackhi_ps(ax2, ay2));
+    store_body_pair(u, b0, b1, _mm_unpacklo_ps(bx2, by2));
+    store_body_pair(u, b2, b3, _mm_unpackhi_ps(bx2, by2));
+  }
+};
 #endif
 
 // One fast pair, scalar. Returns the penetration before the projection over the smaller radius
@@ -88,10 +118,6 @@ inline float project_fast_range(const BodyPtrs& b, PairSchedule& s, std::uint32_
 #if defined(__SSE2__)
   // Plain local pointers, so that stores through them need not reload the vectors' members.
   float* const u = b.u;
-  const std::uint32_t* const ia = s.a.data();
-  const std::uint32_t* const ib = s.b.data();
-  const float* const sx_p = s.sx.data();
-  const float* const sy_p = s.sy.data();
   const float* const target_p = s.target.data();
   float* const lambda_p = s.lambda.data();
   float* const share_p = s.share_now.data();
@@ -102,16 +128,8 @@ inline float project_fast_range(const BodyPtrs& b, PairSchedule& s, std::uint32_
   const __m128 conflict_lo = _mm_set1_ps(s.conflict_lo), conflict_hi = _mm_set1_ps(s.conflict_hi);
   __m128 worst4 = zero;
   for (; k + 4 <= end; k += 4) {
-    const std::uint32_t a0 = ia[k], a1 = ia[k + 1], a2 = ia[k + 2], a3 = ia[k + 3];
-    const std::uint32_t b0 = ib[k], b1 = ib[k + 1], b2 = ib[k + 2], b3 = ib[k + 3];
-    const __m128 a01 = load_body_pair(u, a0, a1), a23 = load_body_pair(u, a2, a3);
-    const __m128 b01 = load_body_pair(u, b0, b1), b23 = load_body_pair(u, b2, b3);
-    const __m128 ax = _mm_shuffle_ps(a01, a23, _MM_SHUFFLE(2, 0, 2, 0));
-    const __m128 ay = _mm_shuffle_ps(a01, a23, _MM_SHUFFLE(3, 1, 3, 1));
-    const __m128 bx = _mm_shuffle_ps(b01, b23, _MM_SHUFFLE(2, 0, 2, 0));
-    const __m128 by = _mm_shuffle_ps(b01, b23, _MM_SHUFFLE(3, 1, 3, 1));
-    const __m128 dx = _mm_add_ps(_mm_loadu_ps(sx_p + k), _mm_sub_ps(bx, ax));
-    const __m128 dy = _mm_add_ps(_mm_loadu_ps(sy_p + k), _mm_sub_ps(by, ay));
+    const FourPairs q(u, s, k);
+    const __m128 dx = q.dx, dy = q.dy;
     const __m128 d2 = _mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy));
     const __m128 target = _mm_loadu_ps(target_p + k);
     const __m128 lambda = _mm_loadu_ps(lambda_p + k);
@@ -124,7 +142,7 @@ inline float project_fast_range(const BodyPtrs& b, PairSchedule& s, std::uint32_
     // (Skipped lanes too: their direction is multiplied by a zero step, and 0 * inf is NaN.)
     const __m128 apart = _mm_cmpgt_ps(dist, _mm_mul_ps(eps, target));
     if (_mm_movemask_ps(apart) != 15) {
-      for (std::uint32_t q = 0; q < 4; ++q) worst = std::max(worst, project_fast_pair(b, s, k + q));
+      for (std::uint32_t lane = 0; lane < 4; ++lane) worst = std::max(worst, project_fast_pair(b, s, k + lane));
       continue;
     }
     const __m128 pen = _mm_sub_ps(target, dist);
@@ -137,12 +155,7 @@ inline float project_fast_range(const BodyPtrs& b, PairSchedule& s, std::uint32_
     const __m128 share = _mm_loadu_ps(share_p + k);
     const __m128 move_a = _mm_mul_ps(step, share);
     const __m128 move_b = _mm_sub_ps(step, move_a);
-    const __m128 ax2 = _mm_sub_ps(ax, _mm_mul_ps(nx, move_a)), ay2 = _mm_sub_ps(ay, _mm_mul_ps(ny, move_a));
-    const __m128 bx2 = _mm_add_ps(bx, _mm_mul_ps(nx, move_b)), by2 = _mm_add_ps(by, _mm_mul_ps(ny, move_b));
-    const __m128 a01n = _mm_unpacklo_ps(ax2, ay2), a23n = _mm_unpackhi_ps(ax2, ay2);
-    const __m128 b01n = _mm_unpacklo_ps(bx2, by2), b23n = _mm_unpackhi_ps(bx2, by2);
-    store_body_pair(u, a0, a1, a01n); store_body_pair(u, a2, a3, a23n);
-    store_body_pair(u, b0, b1, b01n); store_body_pair(u, b2, b3, b23n);
+    q.push_apart(u, nx, ny, move_a, move_b);
     _mm_storeu_ps(lambda_p + k, _mm_or_ps(_mm_and_ps(skip, lambda), _mm_andnot_ps(skip, new_lambda)));
     // Branch-free from here: whether a lane pushed is data-dependent and mispredicts often.
     const __m128 pushed = _mm_andnot_ps(skip, _mm_cmpgt_ps(pen, zero));
@@ -184,40 +197,25 @@ inline void warm_start_fast_range(const BodyPtrs& b, const PairSchedule& s, std:
   std::uint32_t f = begin;
 #if defined(__SSE2__)
   float* const u = b.u;
-  const std::uint32_t* const ia = s.a.data();
-  const std::uint32_t* const ib = s.b.data();
   const __m128 zero = _mm_setzero_ps();
   const __m128 eps = _mm_set1_ps(1e-9f);
   const __m128 one = _mm_set1_ps(1.0f);
   for (; f + 4 <= end; f += 4) {
     const __m128 lambda = _mm_loadu_ps(s.lambda.data() + f);
     if (_mm_movemask_ps(_mm_cmpeq_ps(lambda, zero)) == 15) continue;
-    const std::uint32_t a0 = ia[f], a1 = ia[f + 1], a2 = ia[f + 2], a3 = ia[f + 3];
-    const std::uint32_t b0 = ib[f], b1 = ib[f + 1], b2 = ib[f + 2], b3 = ib[f + 3];
-    const __m128 a01 = load_body_pair(u, a0, a1), a23 = load_body_pair(u, a2, a3);
-    const __m128 b01 = load_body_pair(u, b0, b1), b23 = load_body_pair(u, b2, b3);
-    const __m128 ax = _mm_shuffle_ps(a01, a23, _MM_SHUFFLE(2, 0, 2, 0));
-    const __m128 ay = _mm_shuffle_ps(a01, a23, _MM_SHUFFLE(3, 1, 3, 1));
-    const __m128 bx = _mm_shuffle_ps(b01, b23, _MM_SHUFFLE(2, 0, 2, 0));
-    const __m128 by = _mm_shuffle_ps(b01, b23, _MM_SHUFFLE(3, 1, 3, 1));
-    const __m128 dx = _mm_add_ps(_mm_loadu_ps(s.sx.data() + f), _mm_sub_ps(bx, ax));
-    const __m128 dy = _mm_add_ps(_mm_loadu_ps(s.sy.data() + f), _mm_sub_ps(by, ay));
+    const FourPairs q(u, s, f);
+    const __m128 dx = q.dx, dy = q.dy;
     const __m128 dist = _mm_sqrt_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)));
     const __m128 apart = _mm_cmpgt_ps(dist, _mm_mul_ps(eps, _mm_loadu_ps(s.target.data() + f)));
     if (_mm_movemask_ps(apart) != 15) {
-      for (std::uint32_t q = 0; q < 4; ++q) warm_start_fast(b, s, f + q);
+      for (std::uint32_t lane = 0; lane < 4; ++lane) warm_start_fast(b, s, f + lane);
       continue;
     }
     const __m128 inv = _mm_div_ps(one, dist);
     const __m128 nx = _mm_mul_ps(dx, inv), ny = _mm_mul_ps(dy, inv);
     const __m128 move_a = _mm_mul_ps(lambda, _mm_loadu_ps(s.share_now.data() + f));
     const __m128 move_b = _mm_sub_ps(lambda, move_a);
-    const __m128 ax2 = _mm_sub_ps(ax, _mm_mul_ps(nx, move_a)), ay2 = _mm_sub_ps(ay, _mm_mul_ps(ny, move_a));
-    const __m128 bx2 = _mm_add_ps(bx, _mm_mul_ps(nx, move_b)), by2 = _mm_add_ps(by, _mm_mul_ps(ny, move_b));
-    store_body_pair(u, a0, a1, _mm_unpacklo_ps(ax2, ay2));
-    store_body_pair(u, a2, a3, _mm_unpackhi_ps(ax2, ay2));
-    store_body_pair(u, b0, b1, _mm_unpacklo_ps(bx2, by2));
-    store_body_pair(u, b2, b3, _mm_unpackhi_ps(bx2, by2));
+    q.push_apart(u, nx, ny, move_a, move_b);
   }
 #endif
   for (; f < end; ++f) warm_start_fast(b, s, f);

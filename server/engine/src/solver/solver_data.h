@@ -9,6 +9,21 @@
 
 namespace throng::detail {
 
+// Position of body i along one axis in either representation (see SolverBodies::u), and a move of
+// it: shared by SolverBodies and BodyPtrs.
+inline double displaced_coord(const double* start, const float* u, bool displaced, std::uint32_t i, int axis) {
+  return displaced ? start[i] + static_cast<double>(u[2 * i + axis]) : start[i];
+}
+inline void shift_body(double* x, double* y, float* u, bool displaced, std::uint32_t i, double dx, double dy) {
+  if (displaced) {
+    u[2 * i] = static_cast<float>(static_cast<double>(u[2 * i]) + dx);
+    u[2 * i + 1] = static_cast<float>(static_cast<double>(u[2 * i + 1]) + dy);
+  } else {
+    x[i] += dx;
+    y[i] += dy;
+  }
+}
+
 struct SolverBodies {
   // Positions; in a scheduled solve the positions at its start (see u below).
   std::vector<double> x, y;
@@ -34,17 +49,9 @@ struct SolverBodies {
   std::size_t size() const { return x.size(); }
 
   // Current position of body i and a move of it, for the general code (either representation).
-  double px(std::uint32_t i) const { return displaced ? x[i] + static_cast<double>(u[2 * i]) : x[i]; }
-  double py(std::uint32_t i) const { return displaced ? y[i] + static_cast<double>(u[2 * i + 1]) : y[i]; }
-  void shift(std::uint32_t i, double dx, double dy) {
-    if (displaced) {
-      u[2 * i] = static_cast<float>(static_cast<double>(u[2 * i]) + dx);
-      u[2 * i + 1] = static_cast<float>(static_cast<double>(u[2 * i + 1]) + dy);
-    } else {
-      x[i] += dx;
-      y[i] += dy;
-    }
-  }
+  double px(std::uint32_t i) const { return displaced_coord(x.data(), u.data(), displaced, i, 0); }
+  double py(std::uint32_t i) const { return displaced_coord(y.data(), u.data(), displaced, i, 1); }
+  void shift(std::uint32_t i, double dx, double dy) { shift_body(x.data(), y.data(), u.data(), displaced, i, dx, dy); }
 };
 
 // Raw pointers into SolverBodies for the hot loops: taken once per solve so the compiler keeps them
@@ -64,17 +71,9 @@ struct BodyPtrs {
       : x(b.x.data()), y(b.y.data()), z(b.z.data()), r(b.r.data()), hh(b.hh.data()), grounded(b.grounded.data()),
         id(b.id.data()), u(b.u.data()), displaced(b.displaced) {}
 
-  double px(std::uint32_t i) const { return displaced ? x[i] + static_cast<double>(u[2 * i]) : x[i]; }
-  double py(std::uint32_t i) const { return displaced ? y[i] + static_cast<double>(u[2 * i + 1]) : y[i]; }
-  void shift(std::uint32_t i, double dx, double dy) const {
-    if (displaced) {
-      u[2 * i] = static_cast<float>(static_cast<double>(u[2 * i]) + dx);
-      u[2 * i + 1] = static_cast<float>(static_cast<double>(u[2 * i + 1]) + dy);
-    } else {
-      x[i] += dx;
-      y[i] += dy;
-    }
-  }
+  double px(std::uint32_t i) const { return displaced_coord(x, u, displaced, i, 0); }
+  double py(std::uint32_t i) const { return displaced_coord(y, u, displaced, i, 1); }
+  void shift(std::uint32_t i, double dx, double dy) const { shift_body(x, y, u, displaced, i, dx, dy); }
 };
 
 struct SolverPair {
