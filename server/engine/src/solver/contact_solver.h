@@ -17,8 +17,9 @@ struct SolveResult {
 
 // Applies each pair's warm-start push (pair.lambda from the previous tick) along the current normal.
 void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes);
-// The same in the schedule's level order (same bits, without each pair waiting on the previous
-// one); the fast pairs' lambda is then the schedule's copy.
+// The same for a scheduled solve, in the schedule's level order (each body's pairs in their
+// relative order, without each pair waiting on the previous one), on the float displacements; the
+// fast pairs' lambda is then the schedule's copy.
 void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
                       PairSchedule& schedule);
 

@@ -9,8 +9,10 @@
 // bodies. Pairs of one level share no body, so they can run in any order, side by side (out of
 // order, or in SIMD lanes). Visiting the levels in order keeps every body's pairs in their original
 // relative order, and two projections that share no body touch disjoint memory, so a sweep in level
-// order gives bit-for-bit the result of a sweep in broadphase order, and the reverse level order
-// that of the reverse sweep. Nothing about convergence changes; only the waiting goes.
+// order computes bit-for-bit what a sweep in broadphase order with the same arithmetic computes,
+// and the reverse level order the reverse sweep. Nothing about convergence changes; only the
+// waiting goes. (The crowd solve that uses this order also does its arithmetic on float
+// displacements, see SolverBodies::u, so its bits differ from the double pair-order solve's.)
 //
 // The pairs are cut into chunks of kScheduleChunkPairs consecutive pairs (a band of grid rows)
 // and every level lies within one chunk: still a valid reordering, and a sweep then works
