@@ -263,13 +263,20 @@ TEST(ViewE2E, PageDrawsTheMatchAndKeysMoveTheEntityOnTheServer) {
     if (c.value("name", "") == "view-e2e") me = &c;
   ASSERT_NE(me, nullptr) << summary.dump(2);
   EXPECT_GT((*me)["commands_accepted"].get<std::uint64_t>(), 30u) << me->dump();
-  // Nothing the gateway sent was invalid (it is the only client). rate_limited is not the gateway's
-  // doing: when this shared machine stalls the server's tick, more than max-commands-per-tick of
-  // its commands wait for one tick (seen twice in ~10 runs, 5 rejections each time).
-  std::uint64_t invalid = 0;
-  for (const auto& [reason, n] : summary["rejected_by_reason"].items())
-    if (reason != "rate_limited") invalid += n.get<std::uint64_t>();
+  // Nothing the gateway sent was invalid (it is the only client). Two reasons are not the
+  // gateway's doing. rate_limited: when this shared machine stalls the server's tick, more than
+  // max-commands-per-tick of its commands wait for one tick (seen twice in ~10 runs, 5 rejections
+  // each time). unknown_client, at most a command or two: the page's last command and the leave
+  // travel on different topics, and when both land in the same tick the server applies the leave
+  // first (joins and leaves before commands), so the last command finds no client (seen once in a
+  // CI run, 1 rejection after "departure": "left").
+  std::uint64_t invalid = 0, late_after_leave = 0;
+  for (const auto& [reason, n] : summary["rejected_by_reason"].items()) {
+    if (reason == "unknown_client") late_after_leave += n.get<std::uint64_t>();
+    else if (reason != "rate_limited") invalid += n.get<std::uint64_t>();
+  }
   EXPECT_EQ(invalid, 0u) << me->dump() << "\n" << summary["rejected_by_reason"].dump();
+  EXPECT_LE(late_after_leave, 2u) << me->dump() << "\n" << summary["rejected_by_reason"].dump();
   EXPECT_EQ((*me)["departure"], "left") << me->dump();
 }
 
