@@ -328,100 +328,101 @@ std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::ui
   // Each body examines at most max_candidates bodies: its own cell's later bodies and the right
   // cell first, then the (up to three) cells of the row above.
   const auto scan_all = [&](auto mode) {
-  constexpr TestMode kMode = decltype(mode)::value;
-  CandidatePair* buf = out.data();
-  std::size_t room = out.size();
-  const auto grow = [&](std::size_t need) {
-    out.resize(std::max(need, 2 * out.size()));
-    buf = out.data();
-    room = out.size();
-  };
-  const auto scan_body = [&](std::uint32_t i, std::uint32_t near_end, std::uint32_t up_begin, std::uint32_t up_end) {
-    const std::uint32_t near_len = std::min(near_end - (i + 1), max_candidates);
-    const std::uint32_t up_len = std::min(up_end - up_begin, max_candidates - near_len);
-    if (near_len + up_len == max_candidates) ++capped;
-    if (room < count + near_len + up_len) grow(count + near_len + up_len);
-    count = scan_range<kMode>(a, i, i + 1, near_len, margin, buf, count);
-    count = scan_range<kMode>(a, i, up_begin, up_len, margin, buf, count);
-  };
-  for (int l = 0; l < level_count_; ++l) {
-    const std::vector<Cell>& cells = levels_[l].cells;
-    const std::uint64_t stride = levels_[l].stride;
-    if (!levels_[l].start.empty()) {
-      // Counting-sorted level: start[k] is the first body of key k for every key, so the right
-      // neighbour ends at start[key + 2] and the row above spans [start[key + stride - 1],
-      // start[key + stride + 2]) (empty cells contribute nothing). Occupied keys are interior,
-      // so key + stride + 2 <= stride * rows.
-      const std::uint32_t* start = levels_[l].start.data();
-      for (const Cell& c : cells) {
-        const std::uint64_t k = c.key;
-        const std::uint32_t near_end = start[k + 2];
-        const std::uint32_t up_begin = start[k + stride - 1], up_end = start[k + stride + 2];
+    constexpr TestMode kMode = decltype(mode)::value;
+    CandidatePair* buf = out.data();
+    std::size_t room = out.size();
+    const auto grow = [&](std::size_t need) {
+      out.resize(std::max(need, 2 * out.size()));
+      buf = out.data();
+      room = out.size();
+    };
+    const auto scan_body = [&](std::uint32_t i, std::uint32_t near_end, std::uint32_t up_begin, std::uint32_t up_end) {
+      const std::uint32_t near_len = std::min(near_end - (i + 1), max_candidates);
+      const std::uint32_t up_len = std::min(up_end - up_begin, max_candidates - near_len);
+      if (near_len + up_len == max_candidates) ++capped;
+      if (room < count + near_len + up_len) grow(count + near_len + up_len);
+      count = scan_range<kMode>(a, i, i + 1, near_len, margin, buf, count);
+      count = scan_range<kMode>(a, i, up_begin, up_len, margin, buf, count);
+    };
+    for (int l = 0; l < level_count_; ++l) {
+      const std::vector<Cell>& cells = levels_[l].cells;
+      const std::uint64_t stride = levels_[l].stride;
+      if (!levels_[l].start.empty()) {
+        // Counting-sorted level: start[k] is the first body of key k for every key, so the right
+        // neighbour ends at start[key + 2] and the row above spans [start[key + stride - 1],
+        // start[key + stride + 2]) (empty cells contribute nothing). Occupied keys are interior,
+        // so key + stride + 2 <= stride * rows.
+        const std::uint32_t* start = levels_[l].start.data();
+        for (const Cell& c : cells) {
+          const std::uint64_t k = c.key;
+          const std::uint32_t near_end = start[k + 2];
+          const std::uint32_t up_begin = start[k + stride - 1], up_end = start[k + stride + 2];
+          for (std::uint32_t i = c.begin; i < c.end; ++i) scan_body(i, near_end, up_begin, up_end);
+        }
+        continue;
+      }
+      std::size_t up = 0;  // first cell at or after (cx - 1, cy + 1); only moves forward
+      for (std::size_t k = 0; k < cells.size(); ++k) {
+        const Cell& c = cells[k];
+        const std::uint64_t up_lo = c.key + stride - 1, up_hi = c.key + stride + 1;
+        while (up < cells.size() && cells[up].key < up_lo) ++up;
+        // The cell and its right neighbour are adjacent in the sorted order, and so are the (up
+        // to three) cells of the row above: two contiguous ranges of bodies, scanned in the same
+        // order as cell by cell.
+        const std::uint32_t near_end =
+            (k + 1 < cells.size() && cells[k + 1].key == c.key + 1) ? cells[k + 1].end : c.end;
+        std::uint32_t up_begin = 0, up_end = 0;
+        if (up < cells.size() && cells[up].key <= up_hi) {
+          std::size_t q = up;
+          while (q + 1 < cells.size() && cells[q + 1].key <= up_hi) ++q;
+          up_begin = cells[up].begin;
+          up_end = cells[q].end;
+        }
         for (std::uint32_t i = c.begin; i < c.end; ++i) scan_body(i, near_end, up_begin, up_end);
       }
-      continue;
     }
-    std::size_t up = 0;  // first cell at or after (cx - 1, cy + 1); only moves forward
-    for (std::size_t k = 0; k < cells.size(); ++k) {
-      const Cell& c = cells[k];
-      const std::uint64_t up_lo = c.key + stride - 1, up_hi = c.key + stride + 1;
-      while (up < cells.size() && cells[up].key < up_lo) ++up;
-      // The cell and its right neighbour are adjacent in the sorted order, and so are the (up
-      // to three) cells of the row above: two contiguous ranges of bodies, scanned in the same
-      // order as cell by cell.
-      const std::uint32_t near_end = (k + 1 < cells.size() && cells[k + 1].key == c.key + 1) ? cells[k + 1].end : c.end;
-      std::uint32_t up_begin = 0, up_end = 0;
-      if (up < cells.size() && cells[up].key <= up_hi) {
-        std::size_t q = up;
-        while (q + 1 < cells.size() && cells[q + 1].key <= up_hi) ++q;
-        up_begin = cells[up].begin;
-        up_end = cells[q].end;
-      }
-      for (std::uint32_t i = c.begin; i < c.end; ++i) scan_body(i, near_end, up_begin, up_end);
-    }
-  }
-  // Cross-level pairs: each body of a coarser level queries the finer levels over its box, row by
-  // row. The cells of one row between two keys hold one contiguous range of bodies, so a row is
-  // one range scan; each body examines at most 4 * max_candidates bodies in that order.
-  for (int l = 1; l < level_count_; ++l) {
-    const Level& lv = levels_[l];
-    for (std::uint32_t i = lv.begin; i < lv.end; ++i) {
-      std::uint32_t budget = max_candidates * 4;  // a giant legitimately touches many small bodies
-      for (int m = 0; m < l; ++m) {
-        const Level& fine = levels_[m];
-        if (fine.cells.empty()) continue;
-        const double reach = a.r[i] + fine.max_reach_m;
-        const double inv = 1.0 / fine.cell_m;
-        const std::int64_t cx0 = cell_coord(a.x[i] - reach, inv), cx1 = cell_coord(a.x[i] + reach, inv);
-        // Rows outside the level's occupied rows hold no bodies: skip them.
-        const std::int64_t max_cy = fine.min_cy + static_cast<std::int64_t>(fine.rows) - 3;
-        const std::int64_t cy0 = std::max(cell_coord(a.y[i] - reach, inv), fine.min_cy);
-        const std::int64_t cy1 = std::min(cell_coord(a.y[i] + reach, inv), max_cy);
-        const std::uint32_t* start = fine.start.empty() ? nullptr : fine.start.data();
-        for (std::int64_t cy = cy0; cy <= cy1 && budget > 0; ++cy) {
-          const std::uint64_t lo = level_key(fine, cx0, cy), hi = level_key(fine, cx1, cy);
-          std::uint32_t row_begin = 0, row_end = 0;
-          if (start != nullptr) {
-            row_begin = start[lo];
-            row_end = start[hi + 1];
-          } else {
-            auto it = std::lower_bound(fine.cells.begin(), fine.cells.end(), lo,
-                                       [](const Cell& cell, std::uint64_t key) { return cell.key < key; });
-            if (it != fine.cells.end() && it->key <= hi) {
-              row_begin = it->begin;
-              while (it + 1 != fine.cells.end() && (it + 1)->key <= hi) ++it;
-              row_end = it->end;
+    // Cross-level pairs: each body of a coarser level queries the finer levels over its box, row by
+    // row. The cells of one row between two keys hold one contiguous range of bodies, so a row is
+    // one range scan; each body examines at most 4 * max_candidates bodies in that order.
+    for (int l = 1; l < level_count_; ++l) {
+      const Level& lv = levels_[l];
+      for (std::uint32_t i = lv.begin; i < lv.end; ++i) {
+        std::uint32_t budget = max_candidates * 4;  // a giant legitimately touches many small bodies
+        for (int m = 0; m < l; ++m) {
+          const Level& fine = levels_[m];
+          if (fine.cells.empty()) continue;
+          const double reach = a.r[i] + fine.max_reach_m;
+          const double inv = 1.0 / fine.cell_m;
+          const std::int64_t cx0 = cell_coord(a.x[i] - reach, inv), cx1 = cell_coord(a.x[i] + reach, inv);
+          // Rows outside the level's occupied rows hold no bodies: skip them.
+          const std::int64_t max_cy = fine.min_cy + static_cast<std::int64_t>(fine.rows) - 3;
+          const std::int64_t cy0 = std::max(cell_coord(a.y[i] - reach, inv), fine.min_cy);
+          const std::int64_t cy1 = std::min(cell_coord(a.y[i] + reach, inv), max_cy);
+          const std::uint32_t* start = fine.start.empty() ? nullptr : fine.start.data();
+          for (std::int64_t cy = cy0; cy <= cy1 && budget > 0; ++cy) {
+            const std::uint64_t lo = level_key(fine, cx0, cy), hi = level_key(fine, cx1, cy);
+            std::uint32_t row_begin = 0, row_end = 0;
+            if (start != nullptr) {
+              row_begin = start[lo];
+              row_end = start[hi + 1];
+            } else {
+              auto it = std::lower_bound(fine.cells.begin(), fine.cells.end(), lo,
+                                         [](const Cell& cell, std::uint64_t key) { return cell.key < key; });
+              if (it != fine.cells.end() && it->key <= hi) {
+                row_begin = it->begin;
+                while (it + 1 != fine.cells.end() && (it + 1)->key <= hi) ++it;
+                row_end = it->end;
+              }
             }
+            const std::uint32_t len = std::min(row_end - row_begin, budget);
+            budget -= len;
+            if (room < count + len) grow(count + len);
+            count = scan_range<kMode>(a, i, row_begin, len, margin, buf, count);
           }
-          const std::uint32_t len = std::min(row_end - row_begin, budget);
-          budget -= len;
-          if (room < count + len) grow(count + len);
-          count = scan_range<kMode>(a, i, row_begin, len, margin, buf, count);
         }
+        if (budget == 0) ++capped;
       }
-      if (budget == 0) ++capped;
     }
-  }
   };
   switch (test_mode(a, order_.size(), margin)) {
     case TestMode::kFlatOneRadius: scan_all(std::integral_constant<TestMode, TestMode::kFlatOneRadius>{}); break;

@@ -63,16 +63,22 @@ void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, cons
   }
 }
 
-double pair_depth(const SolverBodies& b, const SolverPair& p) {
-  const double dx = b.px(p.b) - b.px(p.a), dy = b.py(p.b) - b.py(p.a);
+namespace {
+
+// Penetration of the pair's upright capsules with horizontal separation (dx, dy) and their heights.
+double depth_at(const SolverBodies& b, const SolverPair& p, double dx, double dy) {
   const double gap = std::max(0.0, std::fabs(b.z[p.b] - b.z[p.a]) - b.hh[p.a] - b.hh[p.b]);
   return std::max(0.0, b.r[p.a] + b.r[p.b] - std::sqrt(dx * dx + dy * dy + gap * gap));
 }
 
+}  // namespace
+
+double pair_depth(const SolverBodies& b, const SolverPair& p) {
+  return depth_at(b, p, b.px(p.b) - b.px(p.a), b.py(p.b) - b.py(p.a));
+}
+
 double fast_pair_start_depth(const SolverBodies& b, const SolverPair& p) {
-  const double dx = b.x[p.b] - b.x[p.a], dy = b.y[p.b] - b.y[p.a];
-  const double gap = std::max(0.0, std::fabs(b.z[p.b] - b.z[p.a]) - b.hh[p.a] - b.hh[p.b]);
-  return std::max(0.0, b.r[p.a] + b.r[p.b] - std::sqrt(dx * dx + dy * dy + gap * gap));
+  return depth_at(b, p, b.x[p.b] - b.x[p.a], b.y[p.b] - b.y[p.a]);
 }
 
 void measure_start_depths(const SolverBodies& b, std::vector<SolverPair>& pairs, std::vector<SolverPlane>& planes,

@@ -184,8 +184,10 @@ void World::Impl::solve() {
   const double conflict_limit = policy.mode() == params::PushMode::ratio ? settings.conflict_share_limit : 0.0;
   const bool scheduled = detail::wants_schedule(pairs.size(), warm_pairs);
   sb.displaced = scheduled;
-  if (scheduled) std::fill(sb.u.begin(), sb.u.end(), 0.0f);
-  if (scheduled) detail::build_pair_schedule(sb, pairs, conflict_limit, pair_schedule);
+  if (scheduled) {
+    std::fill(sb.u.begin(), sb.u.end(), 0.0f);
+    detail::build_pair_schedule(sb, pairs, conflict_limit, pair_schedule);
+  }
   if (settings.record_push_events) detail::measure_start_depths(sb, pairs, planes, scheduled ? &pair_schedule : nullptr);
   if (settings.warm_start) {
     if (scheduled) detail::apply_warm_start(sb, pairs, planes, pair_schedule);
@@ -215,8 +217,11 @@ void World::Impl::store_warm_start_and_events() {
     const bool a_owns = sb.id[p.a] < sb.id[p.b];
     const std::uint32_t owner = order[a_owns ? p.a : p.b];
     std::uint8_t& count = bodies.warm_count[owner];
-    if (count < detail::kWarmSlots) {
-      bodies.warm[owner * detail::kWarmSlots + count] = {a_owns ? sb.id[p.b] : sb.id[p.a], static_cast<float>(p.lambda)};
+    // A push too small for float (below ~1e-45 m) is not kept: stored pushes are > 0 (the lookup
+    // and the checkpoint loader rely on it).
+    const float lambda = static_cast<float>(p.lambda);
+    if (count < detail::kWarmSlots && lambda > 0.0f) {
+      bodies.warm[owner * detail::kWarmSlots + count] = {a_owns ? sb.id[p.b] : sb.id[p.a], lambda};
       ++count;
     }
     if (settings.record_push_events) {
