@@ -42,6 +42,11 @@ struct RunResult {
   double driver_us_median = 0.0;  // the bench's SceneDriver, outside World::step
   double candidate_pairs_median = 0.0;
   double iterations_used_mean = 0.0;
+  std::uint64_t band_sweeps_total = 0;          // scheduled solve: bands x sweeps over the run
+  std::uint64_t band_sweeps_skipped_total = 0;  // of which left out as calm
+  double band_sweeps_skipped_share() const {
+    return band_sweeps_total == 0 ? 0.0 : static_cast<double>(band_sweeps_skipped_total) / static_cast<double>(band_sweeps_total);
+  }
   std::uint64_t capped_bodies_max = 0;
   std::uint64_t tunnel_clamps_total = 0;
   double solver_max_pen_over_radius_last = 0.0;  // the solver's own figure, for comparison

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "solver/fast_pair_kernel.h"
 #include "solver/pair_projection.h"
@@ -115,19 +116,44 @@ SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs,
       if (pen > worst * r_min) worst = pen / r_min;  // divide only for a new maximum
     }
   };
-  auto project_level = [&](const PairSchedule::Level& lv) {
-    worst = std::max(worst, static_cast<double>(project_fast_range(b, schedule, lv.fast_begin, lv.fast_end)));
-    for (std::uint32_t k = lv.slow_begin; k < lv.slow_end; ++k) project_slow(pairs[schedule.slow[k]]);
+  // Scheduled: a sweep visits the bands of pair_schedule.h in order (or in reverse), each band's
+  // levels in order (or in reverse): with every band visited, exactly the levels in order. A
+  // band's activity is the deepest penetration it met in the sweep (the size of its largest push).
+  auto project_band = [&](std::size_t c, bool forward) {
+    const double worst_before = worst;
+    worst = 0.0;
+    auto project_level = [&](const PairSchedule::Level& lv) {
+      worst = std::max(worst, static_cast<double>(project_fast_range(b, schedule, lv.fast_begin, lv.fast_end)));
+      for (std::uint32_t k = lv.slow_begin; k < lv.slow_end; ++k) project_slow(pairs[schedule.slow[k]]);
+    };
+    const std::uint32_t l0 = schedule.band_level[c], l1 = schedule.band_level[c + 1];
+    if (forward) for (std::uint32_t l = l0; l < l1; ++l) project_level(schedule.levels[l]);
+    else for (std::uint32_t l = l1; l > l0; --l) project_level(schedule.levels[l - 1]);
+    schedule.band_activity[c] = static_cast<float>(worst);
+    worst = std::max(worst, worst_before);
   };
-  const std::size_t nl = schedule.levels.size();
+  const std::size_t nb = scheduled ? schedule.band_count() : 0;
+  // Calm bands are left out once the pressure has had kFullSweeps sweeps to spread (see
+  // kCalmPushOverRadius); with scenery every sweep visits every band, as plane projections move
+  // bodies outside any band's record.
+  const float calm = schedule.calm_push_over_radius;
+  const bool skip_calm = scheduled && !any_planes && calm > 0.0f;
+  if (scheduled) {
+    schedule.band_activity.assign(nb, std::numeric_limits<float>::infinity());
+    schedule.band_swept.assign(nb, 1);
+  }
   for (std::uint32_t it = 0; it < iterations; ++it) {
     worst = 0.0;
+    if (skip_calm && it >= kFullSweeps) {
+      result.band_sweeps_skipped += schedule.choose_bands(calm);
+    }
+    result.band_sweeps += static_cast<std::uint32_t>(nb);
     // Without a schedule (see wants_schedule) the pairs' own order, alternating; with one, the
     // levels (pairs of one level share no body, so only the order of the levels matters).
     if (!scheduled && it % 2 == 0) for (SolverPair& p : pairs) project_slow(p);
     else if (!scheduled) for (std::size_t k = pairs.size(); k > 0; --k) project_slow(pairs[k - 1]);
-    else if (it % 2 == 0) for (std::size_t l = 0; l < nl; ++l) project_level(schedule.levels[l]);
-    else for (std::size_t l = nl; l > 0; --l) project_level(schedule.levels[l - 1]);
+    else if (it % 2 == 0) { for (std::size_t c = 0; c < nb; ++c) if (schedule.band_swept[c]) project_band(c, true); }
+    else { for (std::size_t c = nb; c > 0; --c) if (schedule.band_swept[c - 1]) project_band(c - 1, false); }
     // Fixed bodies last in every sweep: they always win, and the final state honours them exactly.
     for (std::size_t i = 0; any_planes && i < bodies.size(); ++i) {
       if (bodies.plane_count[i] == 0) continue;

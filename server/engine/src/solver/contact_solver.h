@@ -13,6 +13,9 @@ namespace throng::detail {
 struct SolveResult {
   std::uint32_t iterations_used = 0;
   double max_pen_over_radius = 0.0;  // deepest pair or plane seen in the last sweep
+  // Scheduled solve: bands times sweeps, and how many of those band visits were left out as calm.
+  std::uint32_t band_sweeps = 0;
+  std::uint32_t band_sweeps_skipped = 0;
 };
 
 // Applies each pair's warm-start push (pair.lambda from the previous tick) along the current normal.

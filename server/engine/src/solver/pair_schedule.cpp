@@ -15,9 +15,25 @@ void build_pair_schedule(const SolverBodies& bodies, const std::vector<SolverPai
   // Level of each pair, with the fast/slow split in the top bit; counts per level.
   constexpr std::uint32_t kSlow = 0x80000000u;
   std::uint32_t chunk_base = 0;  // first level of the current chunk
+  // Bands: the solver index range of the bodies each band touches, kept in registers.
+  s.band_level.clear();
+  s.band_body_lo.clear();
+  s.band_body_hi.clear();
+  std::uint32_t body_lo = UINT32_MAX, body_hi = 0;
   for (std::size_t k = 0; k < np; ++k) {
     const SolverPair& p = pairs[k];
-    if (k % kScheduleChunkPairs == 0) chunk_base = static_cast<std::uint32_t>(s.fast_count.size());
+    if (k % kScheduleChunkPairs == 0) {
+      if (k > 0) {
+        s.band_body_lo.push_back(body_lo);
+        s.band_body_hi.push_back(body_hi);
+        body_lo = UINT32_MAX;
+        body_hi = 0;
+      }
+      chunk_base = static_cast<std::uint32_t>(s.fast_count.size());
+      s.band_level.push_back(chunk_base);
+    }
+    body_lo = std::min({body_lo, p.a, p.b});
+    body_hi = std::max({body_hi, p.a, p.b});
     const std::uint32_t lv = std::max({s.next_level[p.a], s.next_level[p.b], chunk_base});
     s.next_level[p.a] = s.next_level[p.b] = lv + 1;
     if (lv == s.fast_count.size()) {
@@ -35,6 +51,28 @@ void build_pair_schedule(const SolverBodies& bodies, const std::vector<SolverPai
   }
   // Counting sort by level (stable: within a level, pairs keep the broadphase order).
   const std::size_t level_count = s.fast_count.size();
+  s.band_level.push_back(static_cast<std::uint32_t>(level_count));
+  if (np > 0) {
+    s.band_body_lo.push_back(body_lo);
+    s.band_body_hi.push_back(body_hi);
+  }
+  // Which bands share a body with which, as an interval of band indices per band (a superset:
+  // bands whose body ranges overlap). Bands of one crowd level touch c - 1 .. c + 1; the bands of
+  // pairs with a larger body (listed after the finest level's pairs) span wide ranges.
+  const std::size_t band_count = s.band_count();
+  s.band_wake_lo.resize(band_count);
+  s.band_wake_hi.resize(band_count);
+  for (std::size_t c = 0; c < band_count; ++c) {
+    std::uint32_t lo = static_cast<std::uint32_t>(c), hi = static_cast<std::uint32_t>(c);
+    for (std::size_t d = 0; d < band_count; ++d) {
+      if (s.band_body_lo[d] <= s.band_body_hi[c] && s.band_body_lo[c] <= s.band_body_hi[d]) {
+        lo = std::min(lo, static_cast<std::uint32_t>(d));
+        hi = std::max(hi, static_cast<std::uint32_t>(d));
+      }
+    }
+    s.band_wake_lo[c] = lo;
+    s.band_wake_hi[c] = hi;
+  }
   s.levels.resize(level_count);
   std::uint32_t fast_at = 0, slow_at = 0;
   for (std::size_t lv = 0; lv < level_count; ++lv) {
@@ -76,6 +114,23 @@ void build_pair_schedule(const SolverBodies& bodies, const std::vector<SolverPai
     s.lambda[f] = static_cast<float>(std::min(p.lambda, kWarmStartCapOverRadius * r_min));
     s.inv_r_min[f] = static_cast<float>(1.0 / r_min);
   }
+}
+
+std::uint32_t PairSchedule::choose_bands(float calm) {
+  const std::size_t nb = band_count();
+  band_busy_before.resize(nb + 1);
+  band_swept.resize(nb);
+  band_busy_before[0] = 0;
+  for (std::size_t c = 0; c < nb; ++c) band_busy_before[c + 1] = band_busy_before[c] + (band_activity[c] >= calm ? 1u : 0u);
+  std::uint32_t skipped = 0;
+  for (std::size_t c = 0; c < nb; ++c) {
+    band_swept[c] = band_busy_before[band_wake_hi[c] + 1] > band_busy_before[band_wake_lo[c]] ? 1 : 0;
+    if (!band_swept[c]) {
+      band_activity[c] = 0.0f;
+      ++skipped;
+    }
+  }
+  return skipped;
 }
 
 void write_back_pair_schedule(const PairSchedule& s, std::vector<SolverPair>& pairs) {

@@ -197,6 +197,8 @@ void World::Impl::solve() {
                                                        settings.converged_pen_over_radius, conflict_limit,
                                                        pair_schedule, scheduled);
   stats.iterations_used = r.iterations_used;
+  stats.band_sweeps = r.band_sweeps;
+  stats.band_sweeps_skipped = r.band_sweeps_skipped;
   stats.max_pen_over_radius = r.max_pen_over_radius;
   const std::vector<std::uint32_t>& order = grid.order();
   for (std::size_t s = 0; s < n; ++s) {
