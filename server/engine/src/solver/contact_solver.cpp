@@ -66,20 +66,20 @@ void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, cons
 
 namespace {
 
-// Penetration of the pair's upright capsules with horizontal separation (dx, dy) and their heights.
-double depth_at(const SolverBodies& b, const SolverPair& p, double dx, double dy) {
-  const double gap = std::max(0.0, std::fabs(b.z[p.b] - b.z[p.a]) - b.hh[p.a] - b.hh[p.b]);
-  return std::max(0.0, b.r[p.a] + b.r[p.b] - std::sqrt(dx * dx + dy * dy + gap * gap));
+// Penetration of the upright capsules of bodies a and b with horizontal separation (dx, dy).
+double depth_at(const SolverBodies& b, std::uint32_t a, std::uint32_t c, double dx, double dy) {
+  const double gap = std::max(0.0, std::fabs(b.z[c] - b.z[a]) - b.hh[a] - b.hh[c]);
+  return std::max(0.0, b.r[a] + b.r[c] - std::sqrt(dx * dx + dy * dy + gap * gap));
 }
 
 }  // namespace
 
 double pair_depth(const SolverBodies& b, const SolverPair& p) {
-  return depth_at(b, p, b.px(p.b) - b.px(p.a), b.py(p.b) - b.py(p.a));
+  return depth_at(b, p.a, p.b, b.px(p.b) - b.px(p.a), b.py(p.b) - b.py(p.a));
 }
 
-double fast_pair_start_depth(const SolverBodies& b, const SolverPair& p) {
-  return depth_at(b, p, b.x[p.b] - b.x[p.a], b.y[p.b] - b.y[p.a]);
+double fast_pair_start_depth(const SolverBodies& b, const PairSchedule& s, std::uint32_t f) {
+  return depth_at(b, s.a[f], s.b[f], static_cast<double>(s.sx[f]), static_cast<double>(s.sy[f]));
 }
 
 void measure_start_depths(const SolverBodies& b, std::vector<SolverPair>& pairs, std::vector<SolverPlane>& planes,
@@ -164,7 +164,6 @@ SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs,
     result.max_pen_over_radius = worst;
     if (worst <= converged) break;
   }
-  if (scheduled) write_back_pair_schedule(schedule, pairs);
   return result;
 }
 

@@ -48,9 +48,9 @@ double pair_depth(const SolverBodies& bodies, const SolverPair& pair);
 void measure_start_depths(const SolverBodies& bodies, std::vector<SolverPair>& pairs, std::vector<SolverPlane>& planes,
                           const PairSchedule* schedule);
 
-// A fast pair's (is_fast_pair) depth at the start of a scheduled solve, read after it: the solve
-// moved only the displacements, and grounded bodies never change height.
-double fast_pair_start_depth(const SolverBodies& bodies, const SolverPair& pair);
+// Fast pair f's depth at the start of a scheduled solve, read after it from the schedule's start
+// separation (float) and the bodies' heights (grounded bodies never change height).
+double fast_pair_start_depth(const SolverBodies& bodies, const PairSchedule& schedule, std::uint32_t f);
 
 // Sweeps alternate direction (symmetric Gauss-Seidel): a sweep carries a push far along its own
 // order but only one contact against it, so alternating lets pressure travel both ways through a
@@ -61,7 +61,9 @@ double fast_pair_start_depth(const SolverBodies& bodies, const SolverPair& pair)
 // Unscheduled, the sweeps visit the pairs in their own order, moving the double positions. Scheduled
 // (`schedule` built for these pairs, bodies.displaced set), they visit the levels of
 // pair_schedule.h, which keep every body's pairs in their relative order without each projection
-// waiting for the previous one, and move the bodies' float displacements (SolverBodies::u).
+// waiting for the previous one, and move the bodies' float displacements (SolverBodies::u). The
+// fast pairs' pushes are then in schedule.lambda (write_back_pair_schedule copies them into
+// `pairs`); the slow pairs' are in `pairs`.
 SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
                            std::uint32_t iterations, double converged_pen_over_radius, double conflict_share_limit,
                            PairSchedule& schedule, bool scheduled);

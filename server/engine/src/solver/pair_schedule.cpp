@@ -92,7 +92,8 @@ void build_pair_schedule(const SolverBodies& bodies, const std::vector<SolverPai
     else s.src[s.fast_count[lv]++] = static_cast<std::uint32_t>(k);
   }
   s.a.resize(fast_total); s.b.resize(fast_total); s.sx.resize(fast_total); s.sy.resize(fast_total);
-  s.target.resize(fast_total); s.share_now.resize(fast_total); s.lambda.resize(fast_total);
+  s.target.resize(fast_total); s.share_now.resize(fast_total); s.share_exact.resize(fast_total);
+  s.lambda.resize(fast_total);
   s.inv_r_min.resize(fast_total);
   const double* x = bodies.x.data();
   const double* y = bodies.y.data();
@@ -110,6 +111,7 @@ void build_pair_schedule(const SolverBodies& bodies, const std::vector<SolverPai
     // The same share the general projection would pick (contact_solver.cpp).
     const float share = static_cast<float>(p.share_a);
     s.share_now[f] = p.resolved_once != 0 ? std::clamp(share, s.conflict_lo, s.conflict_hi) : share;
+    s.share_exact[f] = share;
     const double r_min = std::min(r[p.a], r[p.b]);
     s.lambda[f] = static_cast<float>(std::min(p.lambda, kWarmStartCapOverRadius * r_min));
     s.inv_r_min[f] = static_cast<float>(1.0 / r_min);

@@ -87,6 +87,7 @@ struct PairSchedule {
   // also the fast pairs' only record of SolverPair::resolved_once, which nothing reads after the
   // solve, so it is not copied back.
   std::vector<float> share_now;
+  std::vector<float> share_exact;      // the pair's own share (for push events)
   // The conflict share is std::clamp(exact share, lo, hi); clamping is idempotent, so clamping
   // share_now again after later pushes changes nothing. [0, 1] when the limit is off.
   float conflict_lo = 0.0f, conflict_hi = 1.0f;
@@ -122,7 +123,8 @@ inline bool is_fast_pair(const SolverBodies& bodies, const SolverPair& p) {
 void build_pair_schedule(const SolverBodies& bodies, const std::vector<SolverPair>& pairs, double conflict_limit,
                          PairSchedule& s);
 
-// Copies the fast pairs' lambda back into the caller's list.
+// Copies the fast pairs' lambda back into the caller's list. A scheduled solve leaves them in the
+// schedule (the world reads them from there, in schedule order); tests compare against the list.
 void write_back_pair_schedule(const PairSchedule& s, std::vector<SolverPair>& pairs);
 
 }  // namespace throng::detail

@@ -214,25 +214,46 @@ void World::Impl::store_warm_start_and_events() {
   std::fill(bodies.warm_count.begin(), bodies.warm_count.end(), 0);
   events.clear();
   const std::vector<std::uint32_t>& order = grid.order();
-  for (const detail::SolverPair& p : pairs) {
-    if (p.lambda <= 0.0) continue;
-    const bool a_owns = sb.id[p.a] < sb.id[p.b];
-    const std::uint32_t owner = order[a_owns ? p.a : p.b];
+  const bool record = settings.record_push_events;
+  // The body with the smaller id keeps the pair's push for next tick's warm start.
+  auto keep = [&](std::uint32_t a, std::uint32_t b, double push) {
+    const bool a_owns = sb.id[a] < sb.id[b];
+    const std::uint32_t owner = order[a_owns ? a : b];
     std::uint8_t& count = bodies.warm_count[owner];
     // A push too small for float (below ~1e-45 m) is not kept: stored pushes are > 0 (the lookup
     // and the checkpoint loader rely on it).
-    const float lambda = static_cast<float>(p.lambda);
+    const float lambda = static_cast<float>(push);
     if (count < detail::kWarmSlots && lambda > 0.0f) {
-      bodies.warm[owner * detail::kWarmSlots + count] = {a_owns ? sb.id[p.b] : sb.id[p.a], lambda};
+      bodies.warm[owner * detail::kWarmSlots + count] = {a_owns ? sb.id[b] : sb.id[a], lambda};
       ++count;
     }
-    if (settings.record_push_events) {
-      const double depth = sb.displaced && detail::is_fast_pair(sb, p) ? detail::fast_pair_start_depth(sb, p) : p.depth_start;
-      events.push_back({ObjectId{sb.id[p.a]}, ObjectId{sb.id[p.b]}, static_cast<float>(depth),
+  };
+  auto keep_pair = [&](const detail::SolverPair& p) {
+    if (p.lambda <= 0.0) return;
+    keep(p.a, p.b, p.lambda);
+    if (record) {
+      events.push_back({ObjectId{sb.id[p.a]}, ObjectId{sb.id[p.b]}, static_cast<float>(p.depth_start),
                         static_cast<float>(p.share_a), static_cast<float>(p.lambda)});
     }
+  };
+  if (sb.displaced) {
+    // A scheduled solve left the fast pairs' pushes in the schedule: read them there, in schedule
+    // order (sequential; copying them back into the pair list first was a random write per pair).
+    const detail::PairSchedule& s = pair_schedule;
+    for (std::uint32_t f = 0; f < s.fast_size(); ++f) {
+      const float push = s.lambda[f];
+      if (push <= 0.0f) continue;
+      keep(s.a[f], s.b[f], push);
+      if (record) {
+        events.push_back({ObjectId{sb.id[s.a[f]]}, ObjectId{sb.id[s.b[f]]},
+                          static_cast<float>(detail::fast_pair_start_depth(sb, s, f)), s.share_exact[f], push});
+      }
+    }
+    for (const std::uint32_t k : s.slow) keep_pair(pairs[k]);
+  } else {
+    for (const detail::SolverPair& p : pairs) keep_pair(p);
   }
-  if (settings.record_push_events) {
+  if (record) {
     for (const detail::SolverPlane& pl : planes) {
       if (pl.depth_start <= 0.0) continue;
       events.push_back({ObjectId{sb.id[pl.body]}, pl.fixed, static_cast<float>(pl.depth_start),
