@@ -64,23 +64,10 @@ void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, cons
   }
 }
 
-namespace {
-
-// Penetration of the upright capsules of bodies a and b with horizontal separation (dx, dy).
-double depth_at(const SolverBodies& b, std::uint32_t a, std::uint32_t c, double dx, double dy) {
-  const double gap = std::max(0.0, std::fabs(b.z[c] - b.z[a]) - b.hh[a] - b.hh[c]);
-  return std::max(0.0, b.r[a] + b.r[c] - std::sqrt(dx * dx + dy * dy + gap * gap));
-}
-
-}  // namespace
-
 double pair_depth(const SolverBodies& b, const SolverPair& p) {
   return depth_at(b, p.a, p.b, b.px(p.b) - b.px(p.a), b.py(p.b) - b.py(p.a));
 }
 
-double fast_pair_start_depth(const SolverBodies& b, const PairSchedule& s, std::uint32_t f) {
-  return depth_at(b, s.a[f], s.b[f], static_cast<double>(s.sx[f]), static_cast<double>(s.sy[f]));
-}
 
 void measure_start_depths(const SolverBodies& b, std::vector<SolverPair>& pairs, std::vector<SolverPlane>& planes,
                           const PairSchedule* schedule) {
