@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <vector>
 
+#include <emmintrin.h>
+
 #include "throng/core/object_id.h"
 
 namespace throng::detail {
@@ -18,6 +20,23 @@ struct WarmEntry {
   float lambda;
 };
 inline constexpr std::uint32_t kWarmSlots = 8;
+
+// The push kept for `partner` among a body's first `count` entries, or 0. All eight partners are
+// compared at once (SSE2) and only the first `count` matches count: a scan that stopped at the
+// match mispredicted its exit for most pairs (a partner's slot is anywhere in 0..count). Entries
+// past `count` are stale but initialised; a body keeps at most one entry per partner.
+inline float find_warm_push(const WarmEntry* e, std::uint32_t count, std::uint32_t partner) {
+  static_assert(sizeof(WarmEntry) == 8 && kWarmSlots == 8, "eight 8-byte slots, one 64-byte block");
+  const float* f = reinterpret_cast<const float*>(e);
+  const __m128 e01 = _mm_loadu_ps(f), e23 = _mm_loadu_ps(f + 4), e45 = _mm_loadu_ps(f + 8), e67 = _mm_loadu_ps(f + 12);
+  const __m128i want = _mm_set1_epi32(static_cast<int>(partner));
+  const __m128i p0 = _mm_castps_si128(_mm_shuffle_ps(e01, e23, _MM_SHUFFLE(2, 0, 2, 0)));
+  const __m128i p1 = _mm_castps_si128(_mm_shuffle_ps(e45, e67, _MM_SHUFFLE(2, 0, 2, 0)));
+  const unsigned hits = static_cast<unsigned>(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(p0, want)))) |
+                        (static_cast<unsigned>(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(p1, want)))) << 4);
+  const unsigned valid = hits & ((1u << count) - 1u);
+  return valid == 0 ? 0.0f : e[__builtin_ctz(valid)].lambda;
+}
 
 struct BodyStore {
   std::vector<double> x, y, z;        // centre [m]

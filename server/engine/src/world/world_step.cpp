@@ -170,10 +170,8 @@ void World::Impl::build_pairs() {
       const bool a_owns = sb.id[a] < sb.id[b];
       const std::uint32_t owner = a_owns ? da : db;
       const std::uint32_t partner = a_owns ? sb.id[b] : sb.id[a];
-      const detail::WarmEntry* e = &bodies.warm[owner * detail::kWarmSlots];
-      for (std::uint32_t q = 0; q < bodies.warm_count[owner]; ++q) {
-        if (e[q].partner == partner) { p.lambda = static_cast<double>(e[q].lambda); break; }
-      }
+      p.lambda = static_cast<double>(
+          detail::find_warm_push(&bodies.warm[owner * detail::kWarmSlots], bodies.warm_count[owner], partner));
       warm_pairs += p.lambda > 0.0 ? 1 : 0;
     }
   }
