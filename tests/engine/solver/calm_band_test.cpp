@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <set>
 #include <vector>
@@ -38,23 +39,27 @@ SolverPair grounded_pair(const SolverBodies& b, std::uint32_t i, std::uint32_t j
   return p;
 }
 
-// Every pair of bands that share a body lies in each other's wake range, on random pair lists
-// with a few "giants" that pairs all over the list touch.
+// Every pair of bands that share a body lies in each other's wake range, on random pair lists laid
+// out as the grid lays them out: a crowd's pairs in scan order, then the pairs of five giants
+// (the last bodies in solver order, on a coarser grid level) with bodies all over the crowd.
 TEST(CalmBands, WakeRangesCoverEveryBandSharingABody) {
   std::mt19937_64 rng(3);
   for (int trial = 0; trial < 20; ++trial) {
-    const std::uint32_t n = 3000;
+    const std::uint32_t n = 3000, giants = 5, crowd = n - giants;
     SolverBodies bodies;
     bodies.resize(n);
-    for (std::uint32_t i = 0; i < n; ++i) set_body(bodies, i, 0.7 * (i % 60), 0.7 * (i / 60), 0.35);
+    for (std::uint32_t i = 0; i < n; ++i) set_body(bodies, i, 0.7 * (i % 60), 0.7 * (i / 60), i < crowd ? 0.35 : 1.4);
     std::vector<SolverPair> pairs;
     const std::size_t count = 3 * kScheduleChunkPairs + rng() % kScheduleChunkPairs;
     for (std::size_t k = 0; k < count; ++k) {
-      // Mostly local pairs in list order (a crowd), sometimes a pair with one of five giants.
-      const std::uint32_t a = static_cast<std::uint32_t>(k * n / count);
-      const std::uint32_t b = rng() % 50 == 0 ? static_cast<std::uint32_t>(rng() % 5)
-                                              : std::min<std::uint32_t>(n - 1, a + 1 + static_cast<std::uint32_t>(rng() % 70));
+      const std::uint32_t a = static_cast<std::uint32_t>(k * crowd / count);
+      const std::uint32_t b = std::min<std::uint32_t>(crowd - 1, a + 1 + static_cast<std::uint32_t>(rng() % 70));
       if (a != b) pairs.push_back(grounded_pair(bodies, a, b));
+    }
+    const std::size_t giant_pairs = 200 + rng() % 3000;  // in 0-2 bands of their own
+    for (std::size_t k = 0; k < giant_pairs; ++k) {
+      pairs.push_back(grounded_pair(bodies, crowd + static_cast<std::uint32_t>(k % giants),
+                                    static_cast<std::uint32_t>(rng() % crowd)));
     }
     PairSchedule s;
     build_pair_schedule(bodies, pairs, 0.0, s);
@@ -170,6 +175,98 @@ TEST(CalmBands, BandsNextToABusyBandAreVisited) {
   s.band_activity = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.2f};
   EXPECT_EQ(s.choose_bands(calm), 3u);
   EXPECT_EQ(s.band_swept, (std::vector<std::uint8_t>{0, 0, 0, 1, 1, 1}));
+}
+
+// Which bands a sweep visits must never change what it computes beyond the threshold: with the
+// threshold at the smallest float, only bands that changed no push at all in their last sweep, and
+// whose wake ranges changed none either, are left out, and such a band's sweep would change
+// nothing. A block of a lattice is packed and pushes its way into a resting lattice (1 cm gaps)
+// one row at a time, so bands go from calm to busy as the push arrives: the result must be the
+// full sweep's, bit for bit. Narrowing every wake range to the band itself must break that (the
+// test can fail).
+TEST(CalmBands, LeavingOutBandsThatChangedNothingChangesNoBit) {
+  const std::uint32_t cols = 50, rows = 120, packed_rows = 12;
+  SolverBodies bodies;
+  bodies.resize(cols * rows);
+  for (std::uint32_t k = 0; k < cols * rows; ++k) {
+    const std::uint32_t row = k / cols;
+    // Rows below packed_rows are 0.6 m apart (0.1 m deep); the rest rest 1 cm apart.
+    const double y = row < packed_rows ? 0.6 * row : 0.6 * packed_rows + 0.71 * (row - packed_rows);
+    set_body(bodies, k, 0.71 * (k % cols), y, 0.35);
+  }
+  std::vector<SolverPair> pairs;  // right and up neighbours, in row-major (scan) order
+  for (std::uint32_t k = 0; k < cols * rows; ++k) {
+    if (k % cols + 1 < cols) pairs.push_back(grounded_pair(bodies, k, k + 1));
+    if (k + cols < cols * rows) pairs.push_back(grounded_pair(bodies, k, k + cols));
+  }
+  const std::vector<SolverPlane> no_planes;
+  const std::uint32_t sweeps = 24;
+  auto run = [&](float calm, bool narrow, SolveResult& result) {
+    SolverBodies b = bodies;
+    std::vector<SolverPair> p = pairs;
+    b.displaced = true;
+    std::fill(b.u.begin(), b.u.end(), 0.0f);
+    PairSchedule s;
+    build_pair_schedule(b, p, 0.25, s);
+    s.calm_push_over_radius = calm;
+    if (narrow) {
+      for (std::size_t c = 0; c < s.band_count(); ++c) s.band_wake_lo[c] = s.band_wake_hi[c] = static_cast<std::uint32_t>(c);
+    }
+    result = solve_contacts(b, p, no_planes, sweeps, 0.0, 0.25, s, true);
+    return b.u;
+  };
+  const float tiniest = std::numeric_limits<float>::denorm_min();
+  SolveResult all, exact_skip, narrow_skip;
+  const std::vector<float> u_all = run(0.0f, false, all);
+  const std::vector<float> u_skip = run(tiniest, false, exact_skip);
+  ASSERT_GE(pairs.size(), 5 * kScheduleChunkPairs);
+  EXPECT_EQ(all.band_sweeps_skipped, 0u);
+  EXPECT_GT(exact_skip.band_sweeps_skipped, 0u);             // the far rows were left out
+  EXPECT_EQ(u_skip, u_all);
+  EXPECT_EQ(exact_skip.iterations_used, all.iterations_used);
+  const std::vector<float> u_narrow = run(tiniest, true, narrow_skip);
+  EXPECT_NE(u_narrow, u_all);
+}
+
+// No pairs, and fewer pairs than one band: nothing to skip, nothing to break.
+TEST(CalmBands, EmptyAndSingleBandSchedules) {
+  const std::vector<SolverPlane> no_planes;
+  {
+    SolverBodies bodies;
+    bodies.resize(3);
+    for (std::uint32_t i = 0; i < 3; ++i) set_body(bodies, i, 5.0 * i, 0.0, 0.35);
+    bodies.displaced = true;
+    std::fill(bodies.u.begin(), bodies.u.end(), 0.0f);
+    std::vector<SolverPair> pairs;
+    PairSchedule s;
+    build_pair_schedule(bodies, pairs, 0.25, s);
+    EXPECT_EQ(s.band_count(), 0u);
+    const SolveResult r = solve_contacts(bodies, pairs, no_planes, 8, 0.0, 0.25, s, true);
+    EXPECT_EQ(r.band_sweeps, 0u);
+    EXPECT_EQ(r.max_pen_over_radius, 0.0);
+  }
+  {
+    const std::uint32_t n = 8;
+    SolverBodies bodies;
+    bodies.resize(n);
+    for (std::uint32_t i = 0; i < n; ++i) set_body(bodies, i, 0.6 * i, 0.0, 0.35);  // a squeezed line
+    bodies.displaced = true;
+    std::fill(bodies.u.begin(), bodies.u.end(), 0.0f);
+    std::vector<SolverPair> pairs;
+    for (std::uint32_t i = 0; i + 1 < n; ++i) pairs.push_back(grounded_pair(bodies, i, i + 1));
+    PairSchedule s;
+    build_pair_schedule(bodies, pairs, 0.25, s);
+    ASSERT_EQ(s.band_count(), 1u);
+    EXPECT_EQ(s.band_wake_lo[0], 0u);
+    EXPECT_EQ(s.band_wake_hi[0], 0u);
+    const SolveResult r = solve_contacts(bodies, pairs, no_planes, 500, 0.0, 0.25, s, true);
+    // The line spreads out (it is free at both ends) until no sweep changes a push by 1e-3 r,
+    // long before the budget; the ends move out by about half the 0.7 m of overlap each.
+    EXPECT_LT(r.iterations_used, 500u);
+    EXPECT_LT(r.max_pen_over_radius, 0.02);
+    EXPECT_GT(bodies.u[2 * (n - 1)], 0.25f);
+    EXPECT_LT(bodies.u[0], -0.25f);
+  }
 }
 
 }  // namespace

@@ -126,10 +126,14 @@ TEST(FloatSweep, FourLanePathGivesTheScalarBits) {
   ASSERT_EQ(c.bodies.u, scalar_bodies.u);
   for (int sweep = 0; sweep < 4; ++sweep) {
     for (const PairSchedule::Level& lv : simd.levels) {
-      const float w4 = project_fast_range(bs, simd, lv.fast_begin, lv.fast_end);
+      float moved4 = 0.0f, moved1 = 0.0f;
+      const float w4 = project_fast_range(bs, simd, lv.fast_begin, lv.fast_end, moved4);
       float w1 = 0.0f;
-      for (std::uint32_t k = lv.fast_begin; k < lv.fast_end; ++k) w1 = std::max(w1, project_fast_pair(bp, scalar, k));
+      for (std::uint32_t k = lv.fast_begin; k < lv.fast_end; ++k) {
+        w1 = std::max(w1, project_fast_pair(bp, scalar, k, moved1));
+      }
       ASSERT_EQ(w4, w1);
+      ASSERT_EQ(moved4, moved1);
     }
   }
   EXPECT_EQ(c.bodies.u, scalar_bodies.u);

@@ -68,7 +68,6 @@ double pair_depth(const SolverBodies& b, const SolverPair& p) {
   return depth_at(b, p.a, p.b, b.px(p.b) - b.px(p.a), b.py(p.b) - b.py(p.a));
 }
 
-
 void measure_start_depths(const SolverBodies& b, std::vector<SolverPair>& pairs, std::vector<SolverPlane>& planes,
                           const PairSchedule* schedule) {
   if (schedule != nullptr) {
@@ -105,19 +104,23 @@ SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs,
   };
   // Scheduled: a sweep visits the bands of pair_schedule.h in order (or in reverse), each band's
   // levels in order (or in reverse): with every band visited, exactly the levels in order. A
-  // band's activity is the deepest penetration it met in the sweep (the size of its largest push).
+  // band's activity is the largest change of push (push or pull) it made in the sweep, over the
+  // smaller radius: a band whose pairs only gave back pushes moved its bodies too.
   auto project_band = [&](std::size_t c, bool forward) {
-    const double worst_before = worst;
-    worst = 0.0;
+    float moved = 0.0f;
     auto project_level = [&](const PairSchedule::Level& lv) {
-      worst = std::max(worst, static_cast<double>(project_fast_range(b, schedule, lv.fast_begin, lv.fast_end)));
-      for (std::uint32_t k = lv.slow_begin; k < lv.slow_end; ++k) project_slow(pairs[schedule.slow[k]]);
+      worst = std::max(worst, static_cast<double>(project_fast_range(b, schedule, lv.fast_begin, lv.fast_end, moved)));
+      for (std::uint32_t k = lv.slow_begin; k < lv.slow_end; ++k) {
+        SolverPair& p = pairs[schedule.slow[k]];
+        const double lambda_before = p.lambda;
+        project_slow(p);
+        moved = std::max(moved, static_cast<float>(std::fabs(p.lambda - lambda_before) / std::min(b.r[p.a], b.r[p.b])));
+      }
     };
     const std::uint32_t l0 = schedule.band_level[c], l1 = schedule.band_level[c + 1];
     if (forward) for (std::uint32_t l = l0; l < l1; ++l) project_level(schedule.levels[l]);
     else for (std::uint32_t l = l1; l > l0; --l) project_level(schedule.levels[l - 1]);
-    schedule.band_activity[c] = static_cast<float>(worst);
-    worst = std::max(worst, worst_before);
+    schedule.band_activity[c] = moved;
   };
   const std::size_t nb = scheduled ? schedule.band_count() : 0;
   // Calm bands are left out once the pressure has had kFullSweeps sweeps to spread (see
@@ -132,7 +135,12 @@ SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs,
   for (std::uint32_t it = 0; it < iterations; ++it) {
     worst = 0.0;
     if (skip_calm && it >= kFullSweeps) {
-      result.band_sweeps_skipped += schedule.choose_bands(calm);
+      // Every band calm: a sweep would change no push by `calm` or more anywhere. The solve stops
+      // there, and result keeps the last sweep that ran (so with the default settings a crowd
+      // solve stops at 1e-3 r of change per sweep, before converged_pen_over_radius would stop it).
+      const std::uint32_t skipped = schedule.choose_bands(calm);
+      if (skipped == nb) break;
+      result.band_sweeps_skipped += skipped;
     }
     result.band_sweeps += static_cast<std::uint32_t>(nb);
     // Without a schedule (see wants_schedule) the pairs' own order, alternating; with one, the

@@ -81,9 +81,10 @@ struct FourPairs {
 #endif
 
 // One fast pair, scalar. Returns the penetration before the projection over the smaller radius
-// (0 if separated). The ratio is taken with a stored reciprocal: it only steers the early exit
-// and StepStats.
-inline float project_fast_pair(const BodyPtrs& b, PairSchedule& s, std::uint32_t k) {
+// (0 if separated), and raises `moved` to the size of the projection's change of push (a push or a
+// pull) over the smaller radius. The ratios are taken with a stored reciprocal: they only steer
+// the early exit, which bands a sweep visits, and StepStats.
+inline float project_fast_pair(const BodyPtrs& b, PairSchedule& s, std::uint32_t k, float& moved) {
   const std::uint32_t ia = s.a[k], ib = s.b[k];
   float* const u = b.u;
   const float dx = s.sx[k] + (u[2 * ib] - u[2 * ia]);
@@ -97,6 +98,7 @@ inline float project_fast_pair(const BodyPtrs& b, PairSchedule& s, std::uint32_t
   const float new_lambda = std::max(0.0f, lambda + pen);
   const float step = new_lambda - lambda;
   s.lambda[k] = new_lambda;
+  moved = std::max(moved, std::fabs(step) * s.inv_r_min[k]);
   float nx, ny;
   fast_direction(b, ia, ib, dx, dy, dist, target, nx, ny);
   const float move_a = step * s.share_now[k];
@@ -111,8 +113,10 @@ inline float project_fast_pair(const BodyPtrs& b, PairSchedule& s, std::uint32_t
 }
 
 // Projects fast pairs [begin, end) of one level (they share no body). Returns the largest
-// penetration over the smaller radius seen before projecting.
-inline float project_fast_range(const BodyPtrs& b, PairSchedule& s, std::uint32_t begin, std::uint32_t end) {
+// penetration over the smaller radius seen before projecting, and raises `moved` as
+// project_fast_pair does.
+inline float project_fast_range(const BodyPtrs& b, PairSchedule& s, std::uint32_t begin, std::uint32_t end,
+                                float& moved) {
   float worst = 0.0f;
   std::uint32_t k = begin;
 #if defined(__SSE2__)
@@ -126,7 +130,8 @@ inline float project_fast_range(const BodyPtrs& b, PairSchedule& s, std::uint32_
   const __m128 eps = _mm_set1_ps(1e-9f);
   const __m128 one = _mm_set1_ps(1.0f);
   const __m128 conflict_lo = _mm_set1_ps(s.conflict_lo), conflict_hi = _mm_set1_ps(s.conflict_hi);
-  __m128 worst4 = zero;
+  const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7FFFFFFF));
+  __m128 worst4 = zero, moved4 = zero;
   for (; k + 4 <= end; k += 4) {
     const FourPairs q(u, s, k);
     const __m128 dx = q.dx, dy = q.dy;
@@ -142,7 +147,7 @@ inline float project_fast_range(const BodyPtrs& b, PairSchedule& s, std::uint32_
     // (Skipped lanes too: their direction is multiplied by a zero step, and 0 * inf is NaN.)
     const __m128 apart = _mm_cmpgt_ps(dist, _mm_mul_ps(eps, target));
     if (_mm_movemask_ps(apart) != 15) {
-      for (std::uint32_t lane = 0; lane < 4; ++lane) worst = std::max(worst, project_fast_pair(b, s, k + lane));
+      for (std::uint32_t lane = 0; lane < 4; ++lane) worst = std::max(worst, project_fast_pair(b, s, k + lane, moved));
       continue;
     }
     const __m128 pen = _mm_sub_ps(target, dist);
@@ -162,13 +167,17 @@ inline float project_fast_range(const BodyPtrs& b, PairSchedule& s, std::uint32_
     // std::clamp(share, lo, hi), operand order chosen so that ties and bounds give the same bits.
     const __m128 conflict = _mm_max_ps(_mm_min_ps(share, conflict_hi), conflict_lo);
     _mm_storeu_ps(share_p + k, _mm_or_ps(_mm_and_ps(pushed, conflict), _mm_andnot_ps(pushed, share)));
-    worst4 = _mm_max_ps(worst4, _mm_mul_ps(_mm_and_ps(pushed, pen), _mm_loadu_ps(inv_r_min_p + k)));
+    const __m128 inv_r_min = _mm_loadu_ps(inv_r_min_p + k);
+    worst4 = _mm_max_ps(worst4, _mm_mul_ps(_mm_and_ps(pushed, pen), inv_r_min));
+    moved4 = _mm_max_ps(moved4, _mm_mul_ps(_mm_and_ps(step, abs_mask), inv_r_min));  // a skipped lane's step is 0
   }
   float lanes[4];
   _mm_storeu_ps(lanes, worst4);
   worst = std::max({worst, lanes[0], lanes[1], lanes[2], lanes[3]});
+  _mm_storeu_ps(lanes, moved4);
+  moved = std::max({moved, lanes[0], lanes[1], lanes[2], lanes[3]});
 #endif
-  for (; k < end; ++k) worst = std::max(worst, project_fast_pair(b, s, k));
+  for (; k < end; ++k) worst = std::max(worst, project_fast_pair(b, s, k, moved));
   return worst;
 }
 

@@ -58,7 +58,8 @@ void build_pair_schedule(const SolverBodies& bodies, const std::vector<SolverPai
   }
   // Which bands share a body with which, as an interval of band indices per band (a superset:
   // bands whose body ranges overlap). Bands of one crowd level touch c - 1 .. c + 1; the bands of
-  // pairs with a larger body (listed after the finest level's pairs) span wide ranges.
+  // pairs with a larger body (listed after the finest level's pairs) span wide ranges. Bands x
+  // bands interval tests: ~4,000 at 100,000 bodies (65 bands), a few microseconds.
   const std::size_t band_count = s.band_count();
   s.band_wake_lo.resize(band_count);
   s.band_wake_hi.resize(band_count);

@@ -5,7 +5,9 @@
 #include <cstdint>
 #include <vector>
 
+#if defined(__SSE2__)
 #include <emmintrin.h>
+#endif
 
 #include "throng/core/object_id.h"
 
@@ -27,6 +29,12 @@ inline constexpr std::uint32_t kWarmSlots = 8;
 // past `count` are stale but initialised; a body keeps at most one entry per partner.
 inline float find_warm_push(const WarmEntry* e, std::uint32_t count, std::uint32_t partner) {
   static_assert(sizeof(WarmEntry) == 8 && kWarmSlots == 8, "eight 8-byte slots, one 64-byte block");
+#if !defined(__SSE2__)
+  for (std::uint32_t q = 0; q < count; ++q) {
+    if (e[q].partner == partner) return e[q].lambda;
+  }
+  return 0.0f;
+#else
   const float* f = reinterpret_cast<const float*>(e);
   const __m128 e01 = _mm_loadu_ps(f), e23 = _mm_loadu_ps(f + 4), e45 = _mm_loadu_ps(f + 8), e67 = _mm_loadu_ps(f + 12);
   const __m128i want = _mm_set1_epi32(static_cast<int>(partner));
@@ -36,6 +44,7 @@ inline float find_warm_push(const WarmEntry* e, std::uint32_t count, std::uint32
                         (static_cast<unsigned>(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(p1, want)))) << 4);
   const unsigned valid = hits & ((1u << count) - 1u);
   return valid == 0 ? 0.0f : e[__builtin_ctz(valid)].lambda;
+#endif
 }
 
 struct BodyStore {

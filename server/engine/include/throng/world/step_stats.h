@@ -22,7 +22,7 @@ struct StepStats {
   // reads higher than an after-tick measurement; throng-bench reports both).
   double max_pen_over_radius = 0.0;
   // Scheduled (crowd) solve: schedule bands times sweeps, and the band visits left out because
-  // nothing near them pushed (see kCalmPushOverRadius in the solver). Both 0 otherwise.
+  // nothing near them changed a push (see kCalmPushOverRadius in the solver). Both 0 otherwise.
   std::uint32_t band_sweeps = 0;
   std::uint32_t band_sweeps_skipped = 0;
 };
