@@ -75,34 +75,52 @@ void build_pair_schedule(const SolverBodies& bodies, const std::vector<SolverPai
     s.band_wake_hi[c] = hi;
   }
   s.levels.resize(level_count);
+  // Each level's fast range is padded to a multiple of four with pairs that never touch anything
+  // (kPaddingBody), so the four-lane kernel takes every pair (levels hold ~20-35 pairs, and the
+  // up to three left over went the scalar way, at three times the cost).
   std::uint32_t fast_at = 0, slow_at = 0;
   for (std::size_t lv = 0; lv < level_count; ++lv) {
-    s.levels[lv] = {fast_at, fast_at + s.fast_count[lv], slow_at, slow_at + s.slow_count[lv]};
+    const std::uint32_t padded = (s.fast_count[lv] + 3u) & ~3u;
+    s.levels[lv] = {fast_at, fast_at + padded, slow_at, slow_at + s.slow_count[lv]};
     s.fast_count[lv] = fast_at;  // now the next free slot of the level
     s.slow_count[lv] = slow_at;
     fast_at = s.levels[lv].fast_end;
     slow_at = s.levels[lv].slow_end;
   }
   // Scatter only the pair index, then fill the fast arrays front to back: one random write per
-  // pair instead of one into each of nine arrays.
-  s.src.resize(fast_total);
+  // pair instead of one into each of nine arrays. Padding slots keep kNoPair.
+  const std::uint32_t slots = fast_at;
+  s.src.assign(slots, PairSchedule::kNoPair);
   s.slow.resize(np - fast_total);
   for (std::size_t k = 0; k < np; ++k) {
     const std::uint32_t lv = s.pair_level[k];
     if (lv & kSlow) s.slow[s.slow_count[lv & ~kSlow]++] = static_cast<std::uint32_t>(k);
     else s.src[s.fast_count[lv]++] = static_cast<std::uint32_t>(k);
   }
-  s.a.resize(fast_total); s.b.resize(fast_total); s.sx.resize(fast_total); s.sy.resize(fast_total);
-  s.target.resize(fast_total); s.share_now.resize(fast_total); s.share_exact.resize(fast_total);
-  s.lambda.resize(fast_total);
-  s.inv_r_min.resize(fast_total);
+  s.a.resize(slots); s.b.resize(slots); s.sx.resize(slots); s.sy.resize(slots);
+  s.target.resize(slots); s.share_now.resize(slots); s.share_exact.resize(slots);
+  s.lambda.resize(slots);
+  s.inv_r_min.resize(slots);
+  const std::uint32_t pad_body = static_cast<std::uint32_t>(bodies.size());  // SolverBodies' spare slot
   const double* x = bodies.x.data();
   const double* y = bodies.y.data();
   const double* r = bodies.r.data();
   // Shares are in [0, 1], so [0, 1] leaves them exact when the limit is off.
   s.conflict_lo = conflict_limit > 0.0 ? static_cast<float>(conflict_limit) : 0.0f;
   s.conflict_hi = conflict_limit > 0.0 ? static_cast<float>(1.0 - conflict_limit) : 1.0f;
-  for (std::uint32_t f = 0; f < fast_total; ++f) {
+  for (std::uint32_t f = 0; f < slots; ++f) {
+    if (s.src[f] == PairSchedule::kNoPair) {
+      // Separated (1 m apart, target 0) with no push: every lane test skips it, it moves its body
+      // (the spare slot, no real pair's) by exactly zero, and its direction is finite.
+      s.a[f] = s.b[f] = pad_body;
+      s.sx[f] = 1.0f;
+      s.sy[f] = 0.0f;
+      s.target[f] = 0.0f;
+      s.share_now[f] = s.share_exact[f] = 0.0f;
+      s.lambda[f] = 0.0f;
+      s.inv_r_min[f] = 0.0f;
+      continue;
+    }
     const SolverPair& p = pairs[s.src[f]];
     s.a[f] = p.a;
     s.b[f] = p.b;
@@ -137,7 +155,9 @@ std::uint32_t PairSchedule::choose_bands(float calm) {
 }
 
 void write_back_pair_schedule(const PairSchedule& s, std::vector<SolverPair>& pairs) {
-  for (std::size_t f = 0; f < s.fast_size(); ++f) pairs[s.src[f]].lambda = static_cast<double>(s.lambda[f]);
+  for (std::size_t f = 0; f < s.fast_size(); ++f) {
+    if (s.src[f] != PairSchedule::kNoPair) pairs[s.src[f]].lambda = static_cast<double>(s.lambda[f]);
+  }
 }
 
 }  // namespace throng::detail

@@ -97,7 +97,8 @@ struct PairSchedule {
   // Accumulated push; on entry last tick's, already cut to the warm-start cap.
   std::vector<float> lambda;
   std::vector<float> inv_r_min;        // 1 / smaller radius
-  std::vector<std::uint32_t> src;      // index in the caller's pair list
+  std::vector<std::uint32_t> src;      // index in the caller's pair list, kNoPair for padding
+  static constexpr std::uint32_t kNoPair = UINT32_MAX;
 
   std::vector<std::uint32_t> slow;     // other pairs in level order: indices in the caller's list
 
@@ -107,7 +108,7 @@ struct PairSchedule {
   std::vector<std::uint32_t> fast_count, slow_count;
   std::vector<std::uint32_t> band_body_lo, band_body_hi;  // solver index range of each band's bodies
 
-  std::size_t fast_size() const { return a.size(); }
+  std::size_t fast_size() const { return a.size(); }  // including the padding (lambda 0)
   std::size_t band_count() const { return band_level.empty() ? 0 : band_level.size() - 1; }
 
   // Sets band_swept for the next sweep: a band is visited if a band in its wake range changed a

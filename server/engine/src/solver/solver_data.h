@@ -44,7 +44,8 @@ struct SolverBodies {
   void resize(std::size_t n) {
     x.resize(n); y.resize(n); z.resize(n); r.resize(n); hh.resize(n);
     grounded.resize(n); plane_begin.resize(n); plane_count.resize(n); id.resize(n);
-    u.resize(2 * n);
+    // One spare slot (body n) for the pair schedule's padding pairs, which move it by zero.
+    u.resize(2 * n + 2);
   }
   std::size_t size() const { return x.size(); }
 
