@@ -143,5 +143,40 @@ TEST(FloatSweep, FourLanePathGivesTheScalarBits) {
   EXPECT_EQ(simd.share_now, scalar.share_now);
 }
 
+// A band's levels in one span (forward and in reverse) give the level-by-level bits: padding
+// keeps every four-pair group inside one level.
+TEST(FloatSweep, BandSpansGiveTheLevelByLevelBits) {
+  Crowd c = packed_crowd(3000, 0.0, 9);
+  c.bodies.displaced = true;
+  std::fill(c.bodies.u.begin(), c.bodies.u.end(), 0.0f);
+  PairSchedule by_span;
+  build_pair_schedule(c.bodies, c.pairs, 0.25, by_span);
+  ASSERT_GE(by_span.band_count(), 2u);
+  for (const PairSchedule::Level& lv : by_span.levels) ASSERT_EQ((lv.fast_end - lv.fast_begin) % 4, 0u);
+  PairSchedule by_level = by_span;
+  SolverBodies level_bodies = c.bodies;
+  const BodyPtrs bs(c.bodies), bl(level_bodies);
+  float moved_span = 0.0f, moved_level = 0.0f, worst_span = 0.0f, worst_level = 0.0f;
+  for (int sweep = 0; sweep < 6; ++sweep) {
+    const bool forward = sweep % 2 == 0;
+    for (std::size_t i = 0; i < by_span.band_count(); ++i) {
+      const std::size_t band = forward ? i : by_span.band_count() - 1 - i;
+      const std::uint32_t l0 = by_span.band_level[band], l1 = by_span.band_level[band + 1];
+      const std::uint32_t begin = by_span.levels[l0].fast_begin, end = by_span.levels[l1 - 1].fast_end;
+      worst_span = std::max(worst_span, forward ? project_fast_span<false>(bs, by_span, begin, end, moved_span)
+                                                : project_fast_span<true>(bs, by_span, begin, end, moved_span));
+      for (std::uint32_t k = 0; k < l1 - l0; ++k) {
+        const PairSchedule::Level& lv = by_level.levels[forward ? l0 + k : l1 - 1 - k];
+        worst_level = std::max(worst_level, project_fast_range(bl, by_level, lv.fast_begin, lv.fast_end, moved_level));
+      }
+    }
+  }
+  EXPECT_GT(worst_level, 0.1f);  // a real jam
+  EXPECT_EQ(c.bodies.u, level_bodies.u);
+  EXPECT_EQ(by_span.lambda, by_level.lambda);
+  EXPECT_EQ(worst_span, worst_level);
+  EXPECT_EQ(moved_span, moved_level);
+}
+
 }  // namespace
 }  // namespace throng::detail

@@ -112,14 +112,19 @@ inline float project_fast_pair(const BodyPtrs& b, PairSchedule& s, std::uint32_t
   return 0.0f;
 }
 
-// Projects fast pairs [begin, end) of one level (they share no body). Returns the largest
-// penetration over the smaller radius seen before projecting, and raises `moved` as
-// project_fast_pair does.
-inline float project_fast_range(const BodyPtrs& b, PairSchedule& s, std::uint32_t begin, std::uint32_t end,
-                                float& moved) {
+// Projects fast pairs [begin, end), four at a time, in order or (kReverse) in reverse: one level
+// (its pairs share no body, so the order within it does not matter), or a run of whole levels
+// whose fast ranges are padded to multiples of four (pair_schedule.h), so that no four-pair group
+// straddles two levels and going through the groups in order (or in reverse) goes through the
+// levels in order (or in reverse). Returns the largest penetration over the smaller radius seen
+// before projecting, and raises `moved` as project_fast_pair does.
+template <bool kReverse>
+inline float project_fast_span(const BodyPtrs& b, PairSchedule& s, std::uint32_t begin, std::uint32_t end,
+                               float& moved) {
   float worst = 0.0f;
-  std::uint32_t k = begin;
+  std::uint32_t whole_end = end;  // end of the four-pair groups
 #if defined(__SSE2__)
+  whole_end = begin + (end - begin) / 4 * 4;
   // Plain local pointers, so that stores through them need not reload the vectors' members.
   float* const u = b.u;
   const float* const target_p = s.target.data();
@@ -132,7 +137,7 @@ inline float project_fast_range(const BodyPtrs& b, PairSchedule& s, std::uint32_
   const __m128 conflict_lo = _mm_set1_ps(s.conflict_lo), conflict_hi = _mm_set1_ps(s.conflict_hi);
   const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7FFFFFFF));
   __m128 worst4 = zero, moved4 = zero;
-  for (; k + 4 <= end; k += 4) {
+  auto group = [&](std::uint32_t k) {
     const FourPairs q(u, s, k);
     const __m128 dx = q.dx, dy = q.dy;
     const __m128 d2 = _mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy));
@@ -141,14 +146,14 @@ inline float project_fast_range(const BodyPtrs& b, PairSchedule& s, std::uint32_
     // Lanes the scalar path returns from early: separated with nothing to take back.
     const __m128 skip = _mm_and_ps(_mm_cmpge_ps(d2, _mm_mul_ps(target, target)), _mm_cmpeq_ps(lambda, zero));
     const int skip_bits = _mm_movemask_ps(skip);
-    if (skip_bits == 15) continue;
+    if (skip_bits == 15) return;
     const __m128 dist = _mm_sqrt_ps(d2);
     // Coincident cores need the id-derived direction: leave the four lanes to the scalar path.
     // (Skipped lanes too: their direction is multiplied by a zero step, and 0 * inf is NaN.)
     const __m128 apart = _mm_cmpgt_ps(dist, _mm_mul_ps(eps, target));
     if (_mm_movemask_ps(apart) != 15) {
       for (std::uint32_t lane = 0; lane < 4; ++lane) worst = std::max(worst, project_fast_pair(b, s, k + lane, moved));
-      continue;
+      return;
     }
     const __m128 pen = _mm_sub_ps(target, dist);
     const __m128 new_lambda = _mm_max_ps(_mm_add_ps(lambda, pen), zero);  // std::max(0.0f, v)
@@ -170,6 +175,20 @@ inline float project_fast_range(const BodyPtrs& b, PairSchedule& s, std::uint32_
     const __m128 inv_r_min = _mm_loadu_ps(inv_r_min_p + k);
     worst4 = _mm_max_ps(worst4, _mm_mul_ps(_mm_and_ps(pushed, pen), inv_r_min));
     moved4 = _mm_max_ps(moved4, _mm_mul_ps(_mm_and_ps(step, abs_mask), inv_r_min));  // a skipped lane's step is 0
+  };
+  if constexpr (!kReverse) {
+    for (std::uint32_t k = begin; k < whole_end; k += 4) group(k);
+  }
+#endif
+  // Pairs past the last whole group, one by one (last first in reverse).
+  if constexpr (kReverse) {
+    for (std::uint32_t k = end; k > whole_end; --k) worst = std::max(worst, project_fast_pair(b, s, k - 1, moved));
+  } else {
+    for (std::uint32_t k = whole_end; k < end; ++k) worst = std::max(worst, project_fast_pair(b, s, k, moved));
+  }
+#if defined(__SSE2__)
+  if constexpr (kReverse) {
+    for (std::uint32_t k = whole_end; k > begin; k -= 4) group(k - 4);
   }
   float lanes[4];
   _mm_storeu_ps(lanes, worst4);
@@ -177,8 +196,13 @@ inline float project_fast_range(const BodyPtrs& b, PairSchedule& s, std::uint32_
   _mm_storeu_ps(lanes, moved4);
   moved = std::max({moved, lanes[0], lanes[1], lanes[2], lanes[3]});
 #endif
-  for (; k < end; ++k) worst = std::max(worst, project_fast_pair(b, s, k, moved));
   return worst;
+}
+
+// One level, or any pairs sharing no body, in order.
+inline float project_fast_range(const BodyPtrs& b, PairSchedule& s, std::uint32_t begin, std::uint32_t end,
+                                float& moved) {
+  return project_fast_span<false>(b, s, begin, end, moved);
 }
 
 // Applies a fast pair's warm-start push (its lambda, already capped when the schedule was built)
