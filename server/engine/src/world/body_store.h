@@ -35,6 +35,8 @@ inline float find_warm_push(const WarmEntry* e, std::uint32_t count, std::uint32
   }
   return 0.0f;
 #else
+  // A body without entries (a settled or a sparse crowd) needs no look at its slots at all.
+  if (count == 0) return 0.0f;
   const float* f = reinterpret_cast<const float*>(e);
   const __m128 e01 = _mm_loadu_ps(f), e23 = _mm_loadu_ps(f + 4), e45 = _mm_loadu_ps(f + 8), e67 = _mm_loadu_ps(f + 12);
   const __m128i want = _mm_set1_epi32(static_cast<int>(partner));
