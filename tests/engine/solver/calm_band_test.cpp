@@ -39,6 +39,36 @@ SolverPair grounded_pair(const SolverBodies& b, std::uint32_t i, std::uint32_t j
   return p;
 }
 
+// Right and up neighbours of a `cols`-wide lattice of bodies [first, first + count), in row-major
+// (scan) order, as the broadphase lists a crowd's pairs.
+void add_lattice_pairs(const SolverBodies& b, std::uint32_t first, std::uint32_t count, std::uint32_t cols,
+                       std::vector<SolverPair>& pairs) {
+  for (std::uint32_t k = 0; k < count; ++k) {
+    if (k % cols + 1 < cols) pairs.push_back(grounded_pair(b, first + k, first + k + 1));
+    if (k + cols < count) pairs.push_back(grounded_pair(b, first + k, first + k + cols));
+  }
+}
+
+// A scheduled solve (conflict limit 0.25) of copies of the bodies and pairs, leaving out bands
+// calmer than `calm` (0: none); `narrow_wake` shrinks every band's wake range to the band itself.
+// Returns the displacements.
+std::vector<float> scheduled_solve(const SolverBodies& bodies, const std::vector<SolverPair>& pairs,
+                                   std::uint32_t sweeps, float calm, bool narrow_wake, SolveResult& result) {
+  SolverBodies b = bodies;
+  std::vector<SolverPair> p = pairs;
+  b.displaced = true;
+  std::fill(b.u.begin(), b.u.end(), 0.0f);
+  PairSchedule s;
+  build_pair_schedule(b, p, 0.25, s);
+  s.calm_push_over_radius = calm;
+  if (narrow_wake) {
+    for (std::size_t c = 0; c < s.band_count(); ++c) s.band_wake_lo[c] = s.band_wake_hi[c] = static_cast<std::uint32_t>(c);
+  }
+  const std::vector<SolverPlane> no_planes;
+  result = solve_contacts(b, p, no_planes, sweeps, 0.0, 0.25, s, true);
+  return b.u;
+}
+
 // Every pair of bands that share a body lies in each other's wake range, on random pair lists laid
 // out as the grid lays them out: a crowd's pairs in scan order, then the pairs of five giants
 // (the last bodies in solver order, on a coarser grid level) with bodies all over the crowd.
@@ -105,27 +135,11 @@ TEST(CalmBands, RestingCrowdIsLeftOutWithoutChangingABit) {
   for (std::uint32_t k = 0; k < rest; ++k) {
     set_body(bodies, jam + k, 1000.0 + 0.71 * (k % rest_side), 0.71 * (k / rest_side), 0.35);
   }
-  for (std::uint32_t k = 0; k < rest; ++k) {
-    if (k % rest_side + 1 < rest_side) pairs.push_back(grounded_pair(bodies, jam + k, jam + k + 1));
-    if (k + rest_side < rest) pairs.push_back(grounded_pair(bodies, jam + k, jam + k + rest_side));
-  }
-  const std::vector<SolverPlane> no_planes;
+  add_lattice_pairs(bodies, jam, rest, rest_side, pairs);
   const std::uint32_t sweeps = 8;
-
-  auto run = [&](float calm, SolveResult& result) {
-    SolverBodies b = bodies;
-    std::vector<SolverPair> p = pairs;
-    b.displaced = true;
-    std::fill(b.u.begin(), b.u.end(), 0.0f);
-    PairSchedule s;
-    build_pair_schedule(b, p, 0.25, s);
-    s.calm_push_over_radius = calm;
-    result = solve_contacts(b, p, no_planes, sweeps, 0.0, 0.25, s, true);
-    return b.u;
-  };
   SolveResult all, skipping;
-  const std::vector<float> u_all = run(0.0f, all);
-  const std::vector<float> u_skipping = run(kCalmPushOverRadius, skipping);
+  const std::vector<float> u_all = scheduled_solve(bodies, pairs, sweeps, 0.0f, false, all);
+  const std::vector<float> u_skipping = scheduled_solve(bodies, pairs, sweeps, kCalmPushOverRadius, false, skipping);
 
   const std::size_t bands = (pairs.size() + kScheduleChunkPairs - 1) / kScheduleChunkPairs;
   const std::size_t resting_bands = pairs.size() / kScheduleChunkPairs - (jam_pairs + kScheduleChunkPairs - 1) / kScheduleChunkPairs;
@@ -194,37 +208,19 @@ TEST(CalmBands, LeavingOutBandsThatChangedNothingChangesNoBit) {
     const double y = row < packed_rows ? 0.6 * row : 0.6 * packed_rows + 0.71 * (row - packed_rows);
     set_body(bodies, k, 0.71 * (k % cols), y, 0.35);
   }
-  std::vector<SolverPair> pairs;  // right and up neighbours, in row-major (scan) order
-  for (std::uint32_t k = 0; k < cols * rows; ++k) {
-    if (k % cols + 1 < cols) pairs.push_back(grounded_pair(bodies, k, k + 1));
-    if (k + cols < cols * rows) pairs.push_back(grounded_pair(bodies, k, k + cols));
-  }
-  const std::vector<SolverPlane> no_planes;
+  std::vector<SolverPair> pairs;
+  add_lattice_pairs(bodies, 0, cols * rows, cols, pairs);
   const std::uint32_t sweeps = 24;
-  auto run = [&](float calm, bool narrow, SolveResult& result) {
-    SolverBodies b = bodies;
-    std::vector<SolverPair> p = pairs;
-    b.displaced = true;
-    std::fill(b.u.begin(), b.u.end(), 0.0f);
-    PairSchedule s;
-    build_pair_schedule(b, p, 0.25, s);
-    s.calm_push_over_radius = calm;
-    if (narrow) {
-      for (std::size_t c = 0; c < s.band_count(); ++c) s.band_wake_lo[c] = s.band_wake_hi[c] = static_cast<std::uint32_t>(c);
-    }
-    result = solve_contacts(b, p, no_planes, sweeps, 0.0, 0.25, s, true);
-    return b.u;
-  };
   const float tiniest = std::numeric_limits<float>::denorm_min();
   SolveResult all, exact_skip, narrow_skip;
-  const std::vector<float> u_all = run(0.0f, false, all);
-  const std::vector<float> u_skip = run(tiniest, false, exact_skip);
+  const std::vector<float> u_all = scheduled_solve(bodies, pairs, sweeps, 0.0f, false, all);
+  const std::vector<float> u_skip = scheduled_solve(bodies, pairs, sweeps, tiniest, false, exact_skip);
   ASSERT_GE(pairs.size(), 5 * kScheduleChunkPairs);
   EXPECT_EQ(all.band_sweeps_skipped, 0u);
   EXPECT_GT(exact_skip.band_sweeps_skipped, 0u);             // the far rows were left out
   EXPECT_EQ(u_skip, u_all);
   EXPECT_EQ(exact_skip.iterations_used, all.iterations_used);
-  const std::vector<float> u_narrow = run(tiniest, true, narrow_skip);
+  const std::vector<float> u_narrow = scheduled_solve(bodies, pairs, sweeps, tiniest, true, narrow_skip);
   EXPECT_NE(u_narrow, u_all);
 }
 

@@ -111,13 +111,19 @@ TEST(FloatSweep, ScheduledSolveAgreesWithTheDoubleSolveToFloatRounding) {
   }
 }
 
+// The crowd set up for a scheduled solve (displacements zero) and its schedule, conflict limit 0.25.
+PairSchedule start_scheduled_solve(Crowd& c) {
+  c.bodies.displaced = true;
+  std::fill(c.bodies.u.begin(), c.bodies.u.end(), 0.0f);
+  PairSchedule s;
+  build_pair_schedule(c.bodies, c.pairs, 0.25, s);
+  return s;
+}
+
 // Warm start and sweeps, with conflict shares.
 TEST(FloatSweep, FourLanePathGivesTheScalarBits) {
   Crowd c = packed_crowd(1500, 500.0, 5);
-  c.bodies.displaced = true;
-  std::fill(c.bodies.u.begin(), c.bodies.u.end(), 0.0f);
-  PairSchedule simd;
-  build_pair_schedule(c.bodies, c.pairs, 0.25, simd);
+  PairSchedule simd = start_scheduled_solve(c);
   PairSchedule scalar = simd;
   SolverBodies scalar_bodies = c.bodies;
   const BodyPtrs bs(c.bodies), bp(scalar_bodies);
@@ -147,10 +153,7 @@ TEST(FloatSweep, FourLanePathGivesTheScalarBits) {
 // keeps every four-pair group inside one level.
 TEST(FloatSweep, BandSpansGiveTheLevelByLevelBits) {
   Crowd c = packed_crowd(3000, 0.0, 9);
-  c.bodies.displaced = true;
-  std::fill(c.bodies.u.begin(), c.bodies.u.end(), 0.0f);
-  PairSchedule by_span;
-  build_pair_schedule(c.bodies, c.pairs, 0.25, by_span);
+  PairSchedule by_span = start_scheduled_solve(c);
   ASSERT_GE(by_span.band_count(), 2u);
   for (const PairSchedule::Level& lv : by_span.levels) ASSERT_EQ((lv.fast_end - lv.fast_begin) % 4, 0u);
   PairSchedule by_level = by_span;
