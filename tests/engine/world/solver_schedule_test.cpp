@@ -27,7 +27,7 @@ void run(scene::BuiltScene& b, int ticks) {
 
 // `agents` bodies, run into the packed phase (`ticks`), restored into a fresh copy, then both
 // stepped on: the restored one has none of the original's scratch, its bits must still agree.
-void expect_orders_agree(const std::string& name, std::uint64_t agents, int ticks) {
+void expect_restored_agrees(const std::string& name, std::uint64_t agents, int ticks) {
   const scene::SceneDef def = scene::scale_scene(scene::builtin_scene(name), agents);
   scene::BuiltScene a = scene::build_scene(def);
   run(a, ticks);
@@ -49,10 +49,10 @@ void expect_orders_agree(const std::string& name, std::uint64_t agents, int tick
   }
 }
 
-TEST(SolverSchedule, RestoredCrowdTakesTheSameSolveOnCrush) { expect_orders_agree("crush", 6000, 150); }
+TEST(SolverSchedule, RestoredCrowdTakesTheSameSolveOnCrush) { expect_restored_agrees("crush", 6000, 150); }
 
 // Mixed radii and weights: unequal shares, conflict shares, bodies on several grid levels.
-TEST(SolverSchedule, RestoredCrowdTakesTheSameSolveOnMixed) { expect_orders_agree("mixed", 5000, 150); }
+TEST(SolverSchedule, RestoredCrowdTakesTheSameSolveOnMixed) { expect_restored_agrees("mixed", 5000, 150); }
 
 }  // namespace
 }  // namespace throng

@@ -76,7 +76,7 @@ void build_pair_schedule(const SolverBodies& bodies, const std::vector<SolverPai
   }
   s.levels.resize(level_count);
   // Each level's fast range is padded to a multiple of four with pairs that never touch anything
-  // (kPaddingBody), so the four-lane kernel takes every pair (levels hold ~20-35 pairs, and the
+  // (on SolverBodies' spare slot, see below), so the four-lane kernel takes every pair (levels hold ~20-35 pairs, and the
   // up to three left over went the scalar way, at three times the cost).
   std::uint32_t fast_at = 0, slow_at = 0;
   for (std::size_t lv = 0; lv < level_count; ++lv) {

@@ -30,7 +30,7 @@
 
 namespace throng::detail {
 
-// A few grid rows (~3 in the 100,000-body crush): levels stay wide enough for two SIMD lanes and
+// A few grid rows (~3 in the 100,000-body crush): levels stay wide enough for four SIMD lanes and
 // the out-of-order core, and the chunk's bodies stay in L2 while it is swept. Measured at 100,000
 // (thread CPU ms per tick, binaries alternated): 4,096 23.3-24.3, 1,024 24.0-24.3, broadphase
 // order (no schedule) 28.5-29.5; single readings at other times: 16,384 28, no chunks 31.1 (the
