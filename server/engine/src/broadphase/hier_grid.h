@@ -61,6 +61,13 @@ class HierGrid {
     }
   }
 
+  // The solver order is level by level, finest first: level l holds solver indices
+  // [level_begin(l), level_begin(l + 1)), and level_begin(level_count()) is the body count.
+  int level_count() const { return level_count_; }
+  std::uint32_t level_begin(int l) const {
+    return l < level_count_ ? levels_[static_cast<std::size_t>(l)].begin : static_cast<std::uint32_t>(order_.size());
+  }
+
   // Appends all candidate pairs (a < b not required; each unordered pair appears once) in a
   // deterministic order: finest level first, in row-major cell order. Returns the number of bodies
   // whose candidate budget ran out.

@@ -35,6 +35,7 @@ inline constexpr std::array kSettingFields{
     real("dt_s", &WorldSettings::dt_s, 1e-4, 1.0),
     whole("iterations", &WorldSettings::iterations, 1, 256),
     real("contact_margin_m", &WorldSettings::contact_margin_m, 0.0, 10.0),
+    real("pair_list_skin_m", &WorldSettings::pair_list_skin_m, 0.0, 1.0),
     real("converged_pen_over_radius", &WorldSettings::converged_pen_over_radius, 0.0, 1.0),
     flag("record_push_events", &WorldSettings::record_push_events),
     flag("warm_start", &WorldSettings::warm_start),

@@ -15,6 +15,7 @@
 // the saved reach) and StepStats/push_events (describe the last step only; empty after restore).
 // Not saved because it is configuration, checked by the config hash instead: WorldSettings other
 // than iterations, the scenery shapes, the parameter table.
+#include <cmath>
 #include <cstring>
 #include <exception>
 #include <limits>
@@ -55,7 +56,7 @@ std::string hex(std::uint64_t v) {
 std::uint64_t World::Impl::config_hash() const {
   Fnv f;
   const WorldSettings& s = settings;  // every field but iterations (set_iterations is state)
-  f.add(s.dt_s); f.add(s.contact_margin_m); f.add(s.converged_pen_over_radius);
+  f.add(s.dt_s); f.add(s.contact_margin_m); f.add(s.pair_list_skin_m); f.add(s.converged_pen_over_radius);
   f.add(static_cast<std::uint8_t>(s.record_push_events)); f.add(static_cast<std::uint8_t>(s.warm_start));
   f.add(s.blocked_motion_carry); f.add(s.conflict_share_limit); f.add(s.max_candidates_per_body);
   f.add(s.cell_size_m); f.add(s.morale_radius_m); f.add(s.morale_refresh_ticks);
@@ -123,6 +124,25 @@ void World::Impl::save_state(ByteWriter& w) const {
   }
   w.put(policy_version);
   detail::put_policy(w, policy);
+  // The kept pair list: only where it was searched (the restored world searches there again and
+  // takes the pushes from the warm-start cache above), in the dense order.
+  // A world restored from such a checkpoint and not stepped since still holds them as restored.
+  w.put(list.kept_ticks);
+  w.put(list.cooldown);
+  const bool list_kept = list.valid && solver_order.size() == n && list.x.size() == n;
+  const bool list_pending = !list_kept && list.restore_pending && list.restored_x.size() == n;
+  w.put(static_cast<std::uint8_t>(list_kept || list_pending ? 1 : 0));
+  if (list_kept) {
+    for (const std::vector<double>* col : {&list.x, &list.y, &list.z}) {
+      w.put(static_cast<std::uint32_t>(n));
+      p = w.grow(n * 8);
+      for (std::size_t s = 0; s < n; ++s) std::memcpy(p + std::size_t{solver_order[s]} * 8, &(*col)[s], 8);
+    }
+  } else if (list_pending) {
+    w.put_array(list.restored_x);
+    w.put_array(list.restored_y);
+    w.put_array(list.restored_z);
+  }
 }
 
 namespace detail {
@@ -204,6 +224,17 @@ WorldState decode_world_state(ByteReader& r) {
   }
   st.policy_version = r.get<std::uint64_t>("policy version");
   st.policy = get_policy(r);
+  st.pair_list_kept_ticks = r.get<std::uint32_t>("pair list kept ticks");
+  st.pair_list_cooldown = r.get<std::uint32_t>("pair list cooldown");
+  st.pair_list_kept = r.get_bool("pair list kept");
+  if (st.pair_list_kept) {
+    for (std::vector<double>* col : {&st.pair_list_x, &st.pair_list_y, &st.pair_list_z}) {
+      r.get_array_exact(*col, "pair list positions", n);
+      for (const double v : *col) {
+        if (!std::isfinite(v)) r.fail("pair list position is not finite");
+      }
+    }
+  }
 
   // Consistency: every body's id names a body slot that points back at it; slots point inside
   // their arrays; the free list holds distinct free slots. What step() indexes with is checked here.
@@ -270,6 +301,14 @@ void World::Impl::apply_state(detail::WorldState&& st) {
   fixed_params = std::move(st.fixed_params);
   bodies = std::move(st.bodies);
   cell0_dirty = true;
+  // The next step searches a kept list again where the saved world searched it (world_pair_list.cpp).
+  list.valid = false;
+  list.restore_pending = st.pair_list_kept;
+  list.kept_ticks = st.pair_list_kept_ticks;
+  list.cooldown = st.pair_list_cooldown;
+  list.restored_x = std::move(st.pair_list_x);
+  list.restored_y = std::move(st.pair_list_y);
+  list.restored_z = std::move(st.pair_list_z);
   body_params = std::move(st.body_params);
   cameras = std::move(st.cameras);
   all_coefficients_dirty = st.all_coefficients_dirty;

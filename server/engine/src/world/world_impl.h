@@ -81,10 +81,10 @@ struct World::Impl {
   std::vector<double> start_x, start_y, start_z;
   std::vector<double> moved_x, moved_y;  // after the move phase, before the solve
   std::vector<double> median_scratch;
-  // cell0_size() is a median over all radii; radii change only when bodies are created, destroyed
+  // cell0_size() uses the median of all radii; radii change only when bodies are created, destroyed
   // or restored, so it is recomputed only then (the nth_element cost ~0.1 ms a tick at 20,000).
   bool cell0_dirty = true;
-  double cell0_cached_m = 1.0;
+  double median_radius_m = 0.5;
   std::vector<std::uint32_t> sgroup, smask;  // collision filter in solver order
 
   // Pile relief (pile_relief.cpp).
@@ -96,6 +96,42 @@ struct World::Impl {
   };
   std::vector<PileEntry> pile;
   double grid_cell0 = 1.0;
+
+  // Solver index -> dense index: the broadphase order of the last search (identity once
+  // reorder_dense has put the dense arrays into that order).
+  std::vector<std::uint32_t> solver_order;
+
+  // The pair list kept across ticks (world_pair_list.cpp, WorldSettings::pair_list_skin_m).
+  struct PairList {
+    // A list kept for fewer ticks than this before motion outran its skin is followed by
+    // kCooldownTicks ticks of searching with the margin alone (the list's search costs more than
+    // one plain search; `mixed`, whose cavalry and giants shove the crowd, kept its lists ~1 tick).
+    static constexpr std::uint32_t kMinKeptTicks = 2;
+    static constexpr std::uint32_t kCooldownTicks = 8;
+    bool valid = false;  // kept: nothing but motion changed since its search
+    std::uint32_t kept_ticks = 0;  // ticks the current (or last) list was kept after its search
+    std::uint32_t cooldown = 0;    // ticks still to search without a list
+    std::vector<std::uint32_t> a, b;   // solver indices, in the order of the fine grid's search
+    std::vector<double> target;        // SolverPair::target (heights and radii do not change)
+    // The margin's reach r_a + r_b + margin, or 0 for a pair of grounded bodies whose heights keep
+    // it apart (heights and radii do not change while the list is kept).
+    std::vector<double> reach;
+    std::vector<double> share;         // SolverPair::share_a, recomputed when a resistance changed
+    bool shares_stale = false;         // a resistance changed since the shares were computed
+    std::vector<float> lambda;         // last tick's push (0: none kept)
+    std::vector<double> x, y, z;       // positions of the search, solver order
+    std::vector<std::uint32_t> of_pair;  // this tick's pair k -> list entry
+    // A restored world searches again at the saved positions (dense order) before its next step.
+    bool restore_pending = false;
+    std::vector<double> restored_x, restored_y, restored_z;
+    // Search scratch: a coarser grid over the solver order and its candidates.
+    detail::HierGrid grid;
+    std::vector<double> cx, cy, cz, cr, chh;
+    std::vector<std::uint32_t> cgroup, cmask;
+    std::vector<detail::CandidatePair> found;
+    std::vector<std::uint32_t> bucket;  // counting sort of the found pairs by the body listing them
+    std::vector<std::uint8_t> level_of;  // fine grid level per solver index
+  } list;
 
   // Spatial reordering of the dense arrays (world_step.cpp).
   static constexpr std::uint64_t kReorderPeriodTicks = 16;
@@ -120,7 +156,16 @@ struct World::Impl {
   void update_morale_counts();
   void refresh_coefficients();
   void move_bodies();
+  void find_pairs();
   void build_pairs();
+  bool fine_grid(const double* x, const double* y, const double* z, bool allow_relief);
+  void search_candidates();
+  void setup_pairs();
+  double pair_target(std::uint32_t a, std::uint32_t b) const;
+  float warm_push(std::uint32_t a, std::uint32_t b) const;
+  bool pair_list_eligible() const;
+  bool search_pair_list(const double* x, const double* y, const double* z);
+  void pairs_from_list();
   bool relieve_piles();
   void build_scenery_planes();
   void solve();
@@ -137,7 +182,7 @@ struct World::Impl {
   // helpers
   void rebuild_scenery_cells(double reach);
   bool near_scenery(double x, double y) const;
-  double cell0_size();
+  double cell0_size(double search_margin);
   double pair_share(std::uint32_t dense_a, std::uint32_t dense_b, double nx, double ny) const;
 };
 

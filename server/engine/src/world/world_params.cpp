@@ -108,9 +108,13 @@ void World::Impl::refresh_coefficients() {
     if (!all_coefficients_dirty && bodies.coeff_dirty[i] == 0) continue;
     const params::ObjectParams& p = body_params[i];
     const params::PushCoefficients c = policy.coefficients(p, groups);
+    // A kept pair list keeps its pairs' shares until a resistance changes.
+    if (!(bodies.resistance[i] == c.resistance)) list.shares_stale = true;
     bodies.resistance[i] = c.resistance;
     bodies.rule_lhs[i] = c.rule_mask_lhs;
     bodies.rule_rhs[i] = c.rule_mask_rhs;
+    // A new collision filter changes which pairs exist: the kept pair list is dropped.
+    if (bodies.group[i] != p.collision_group || bodies.mask[i] != p.collision_mask) list.valid = false;
     bodies.group[i] = p.collision_group;
     bodies.mask[i] = p.collision_mask;
     bodies.coeff_dirty[i] = 0;

@@ -18,6 +18,7 @@ void WorldSettings::validate() const {
   check(dt_s, 1e-4, 1.0, "dt_s");
   check(iterations, 1, 256, "iterations");
   check(contact_margin_m, 0.0, 10.0, "contact_margin_m");
+  check(pair_list_skin_m, 0.0, 1.0, "pair_list_skin_m");
   check(converged_pen_over_radius, 0.0, 1.0, "converged_pen_over_radius");
   check(blocked_motion_carry, 0.0, 0.99, "blocked_motion_carry");
   check(conflict_share_limit, 0.0, 0.5, "conflict_share_limit");

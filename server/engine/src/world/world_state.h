@@ -16,7 +16,7 @@
 namespace throng::detail {
 
 inline constexpr std::uint32_t kWorldStateMagic = 0x53574854;  // "THWS" in the file
-inline constexpr std::uint32_t kWorldStateVersion = 1;
+inline constexpr std::uint32_t kWorldStateVersion = 2;  // 2: the kept pair list
 
 struct WorldState {
   std::uint64_t config_hash = 0;
@@ -38,6 +38,10 @@ struct WorldState {
   std::vector<std::uint32_t> morale_allies, morale_enemies;  // full size when present
   std::uint64_t policy_version = 0;
   params::PushPolicy policy;
+  // A kept pair list (World::Impl::PairList): where it was searched, dense order; empty if none.
+  std::uint32_t pair_list_kept_ticks = 0, pair_list_cooldown = 0;
+  bool pair_list_kept = false;
+  std::vector<double> pair_list_x, pair_list_y, pair_list_z;
 };
 
 // Reads one world section (the magic through the policy) and checks that it is self-consistent:

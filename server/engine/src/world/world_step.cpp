@@ -37,7 +37,7 @@ const StepStats& World::step() {
   w.stats.move_us = micros_since(t);
 
   t = Clock::now();
-  w.build_pairs();
+  w.find_pairs();
   w.stats.broadphase_us = micros_since(t);
 
   t = Clock::now();
@@ -93,45 +93,89 @@ void World::Impl::move_bodies() {
   }
 }
 
-double World::Impl::cell0_size() {
+double World::Impl::cell0_size(double search_margin) {
   if (settings.cell_size_m > 0.0) return settings.cell_size_m;
   // Finest cell = diameter of the median body plus margin: most bodies land on level 0 and test
   // only their 3x3 neighbourhood; bigger bodies go to coarser levels.
-  if (!cell0_dirty) return cell0_cached_m;
-  median_scratch.assign(bodies.r.begin(), bodies.r.end());
-  if (median_scratch.empty()) return 1.0;
-  auto mid = median_scratch.begin() + static_cast<std::ptrdiff_t>(median_scratch.size() / 2);
-  std::nth_element(median_scratch.begin(), mid, median_scratch.end());
-  cell0_cached_m = 2.0 * (*mid + settings.contact_margin_m);
-  cell0_dirty = false;
-  return cell0_cached_m;
+  if (cell0_dirty) {
+    median_scratch.assign(bodies.r.begin(), bodies.r.end());
+    if (median_scratch.empty()) return 1.0;
+    auto mid = median_scratch.begin() + static_cast<std::ptrdiff_t>(median_scratch.size() / 2);
+    std::nth_element(median_scratch.begin(), mid, median_scratch.end());
+    median_radius_m = *mid;
+    cell0_dirty = false;
+  }
+  return 2.0 * (median_radius_m + search_margin);
 }
 
 void World::Impl::build_pairs() {
+  fine_grid(bodies.x.data(), bodies.y.data(), bodies.z.data(), true);
+  search_candidates();
+  setup_pairs();
+}
+
+// The broadphase grid with the contact margin at positions (x, y, z) (dense order): the solver
+// order, and the solver's bodies gathered in it. Returns whether a pile was relieved (then the
+// grid and the bodies are at the relieved positions, which are the bodies' own).
+bool World::Impl::fine_grid(const double* x, const double* y, const double* z, bool allow_relief) {
   const std::size_t n = bodies.size();
   const double margin = settings.contact_margin_m;
-  grid_cell0 = cell0_size();
-  grid.build(bodies.x.data(), bodies.y.data(), bodies.r.data(), n, margin, grid_cell0);
-  if (relieve_piles()) grid.build(bodies.x.data(), bodies.y.data(), bodies.r.data(), n, margin, grid_cell0);
-  const std::vector<std::uint32_t>& order = grid.order();
+  grid_cell0 = cell0_size(margin);
+  grid.build(x, y, bodies.r.data(), n, margin, grid_cell0);
+  const bool relieved = allow_relief && relieve_piles();
+  if (relieved) {
+    x = bodies.x.data();
+    y = bodies.y.data();
+    z = bodies.z.data();
+    grid.build(x, y, bodies.r.data(), n, margin, grid_cell0);
+  }
+  solver_order = grid.order();
+  const std::vector<std::uint32_t>& order = solver_order;
   sb.resize(n);
   sgroup.resize(n);
   smask.resize(n);
   for (std::size_t s = 0; s < n; ++s) {
     const std::uint32_t i = order[s];
-    sb.x[s] = bodies.x[i]; sb.y[s] = bodies.y[i]; sb.z[s] = bodies.z[i];
+    sb.x[s] = x[i]; sb.y[s] = y[i]; sb.z[s] = z[i];
     sb.r[s] = bodies.r[i]; sb.hh[s] = bodies.hh[i];
     sb.grounded[s] = bodies.grounded[i];
     sb.id[s] = bodies.id[i].value;
     sgroup[s] = bodies.group[i];
     smask[s] = bodies.mask[i];
   }
+  return relieved;
+}
+
+void World::Impl::search_candidates() {
   candidates.clear();
   const detail::GridBodyView view{sb.x.data(), sb.y.data(), sb.z.data(), sb.r.data(), sb.hh.data(),
                                   sgroup.data(), smask.data()};
-  stats.capped_bodies = grid.find_pairs(view, margin, settings.max_candidates_per_body, candidates);
+  stats.capped_bodies = grid.find_pairs(view, settings.contact_margin_m, settings.max_candidates_per_body, candidates);
   stats.candidate_pairs = static_cast<std::uint32_t>(candidates.size());
+}
 
+double World::Impl::pair_target(std::uint32_t a, std::uint32_t b) const {
+  if (!(sb.grounded[a] & sb.grounded[b])) return -1.0;
+  // Upright capsules at fixed heights: the horizontal separation they need is exact (and is just
+  // the radius sum when their cores overlap in height, the common case).
+  const double rsum = sb.r[a] + sb.r[b];
+  const double gap = std::fabs(sb.z[b] - sb.z[a]) - sb.hh[a] - sb.hh[b];
+  if (gap <= 0.0) return rsum;
+  const double target2 = rsum * rsum - gap * gap;
+  return target2 > 0.0 ? std::sqrt(target2) : 0.0;
+}
+
+float World::Impl::warm_push(std::uint32_t a, std::uint32_t b) const {
+  if (!settings.warm_start) return 0.0f;
+  // The body with the smaller id keeps the pair's push from last tick.
+  const bool a_owns = sb.id[a] < sb.id[b];
+  const std::uint32_t owner = solver_order[a_owns ? a : b];
+  const std::uint32_t partner = a_owns ? sb.id[b] : sb.id[a];
+  return detail::find_warm_push(&bodies.warm[owner * detail::kWarmSlots], bodies.warm_count[owner], partner);
+}
+
+void World::Impl::setup_pairs() {
+  const std::vector<std::uint32_t>& order = solver_order;
   pairs.resize(candidates.size());
   warm_pairs = 0;
   for (std::size_t k = 0; k < candidates.size(); ++k) {
@@ -149,31 +193,11 @@ void World::Impl::build_pairs() {
     } else {
       p.share_a = params::share_a_fast(bodies.resistance[da], bodies.resistance[db]);
     }
-    p.target = -1.0;
-    if (sb.grounded[a] & sb.grounded[b]) {
-      // Upright capsules at fixed heights: the horizontal separation they need is exact (and is
-      // just the radius sum when their cores overlap in height, the common case).
-      const double rsum = sb.r[a] + sb.r[b];
-      const double gap = std::fabs(sb.z[b] - sb.z[a]) - sb.hh[a] - sb.hh[b];
-      if (gap <= 0.0) {
-        p.target = rsum;
-      } else {
-        const double target2 = rsum * rsum - gap * gap;
-        p.target = target2 > 0.0 ? std::sqrt(target2) : 0.0;
-      }
-    }
-    p.lambda = 0.0;
+    p.target = pair_target(a, b);
     p.depth_start = 0.0;
     p.resolved_once = 0;
-    if (settings.warm_start) {
-      // The body with the smaller id keeps the pair's push from last tick.
-      const bool a_owns = sb.id[a] < sb.id[b];
-      const std::uint32_t owner = a_owns ? da : db;
-      const std::uint32_t partner = a_owns ? sb.id[b] : sb.id[a];
-      p.lambda = static_cast<double>(
-          detail::find_warm_push(&bodies.warm[owner * detail::kWarmSlots], bodies.warm_count[owner], partner));
-      warm_pairs += p.lambda > 0.0 ? 1 : 0;
-    }
+    p.lambda = static_cast<double>(warm_push(a, b));
+    warm_pairs += p.lambda > 0.0 ? 1 : 0;
   }
 }
 
@@ -198,7 +222,7 @@ void World::Impl::solve() {
   stats.band_sweeps = r.band_sweeps;
   stats.band_sweeps_skipped = r.band_sweeps_skipped;
   stats.max_pen_over_radius = r.max_pen_over_radius;
-  const std::vector<std::uint32_t>& order = grid.order();
+  const std::vector<std::uint32_t>& order = solver_order;
   for (std::size_t s = 0; s < n; ++s) {
     const std::uint32_t i = order[s];
     bodies.x[i] = sb.px(static_cast<std::uint32_t>(s));
@@ -211,9 +235,13 @@ void World::Impl::solve() {
 void World::Impl::store_warm_start_and_events() {
   std::fill(bodies.warm_count.begin(), bodies.warm_count.end(), 0);
   events.clear();
-  const std::vector<std::uint32_t>& order = grid.order();
+  const std::vector<std::uint32_t>& order = solver_order;
   const bool record = settings.record_push_events;
-  // The body with the smaller id keeps the pair's push for next tick's warm start.
+  // A kept pair list keeps each pair's push as the cache does (zero where the cache cannot).
+  float* list_lambda = list.valid ? list.lambda.data() : nullptr;
+  const std::uint32_t* list_entry = list.of_pair.data();
+  // The body with the smaller id keeps the pair's push for next tick's warm start. Returns the
+  // push as kept (0 if it was not).
   auto keep = [&](std::uint32_t a, std::uint32_t b, double push) {
     const bool a_owns = sb.id[a] < sb.id[b];
     const std::uint32_t owner = order[a_owns ? a : b];
@@ -224,12 +252,15 @@ void World::Impl::store_warm_start_and_events() {
     if (count < detail::kWarmSlots && lambda > 0.0f) {
       bodies.warm[owner * detail::kWarmSlots + count] = {a_owns ? sb.id[b] : sb.id[a], lambda};
       ++count;
+      return lambda;
     }
+    return 0.0f;
   };
-  auto keep_pair = [&](const detail::SolverPair& p) {
-    if (p.lambda <= 0.0) return;
-    keep(p.a, p.b, p.lambda);
-    if (record) {
+  auto keep_pair = [&](std::uint32_t k) {
+    const detail::SolverPair& p = pairs[k];
+    const float kept = p.lambda > 0.0 ? keep(p.a, p.b, p.lambda) : 0.0f;
+    if (list_lambda != nullptr) list_lambda[list_entry[k]] = kept;
+    if (record && p.lambda > 0.0) {
       events.push_back({ObjectId{sb.id[p.a]}, ObjectId{sb.id[p.b]}, static_cast<float>(p.depth_start),
                         static_cast<float>(p.share_a), static_cast<float>(p.lambda)});
     }
@@ -240,16 +271,20 @@ void World::Impl::store_warm_start_and_events() {
     const detail::PairSchedule& s = pair_schedule;
     for (std::uint32_t f = 0; f < s.fast_size(); ++f) {
       const float push = s.lambda[f];
-      if (push <= 0.0f) continue;
-      keep(s.a[f], s.b[f], push);
+      if (push <= 0.0f) {
+        if (list_lambda != nullptr && s.src[f] != detail::PairSchedule::kNoPair) list_lambda[list_entry[s.src[f]]] = 0.0f;
+        continue;
+      }
+      const float kept = keep(s.a[f], s.b[f], push);
+      if (list_lambda != nullptr) list_lambda[list_entry[s.src[f]]] = kept;
       if (record) {
         events.push_back({ObjectId{sb.id[s.a[f]]}, ObjectId{sb.id[s.b[f]]},
                           static_cast<float>(detail::fast_pair_start_depth(sb, s, f)), s.share_exact[f], push});
       }
     }
-    for (const std::uint32_t k : s.slow) keep_pair(pairs[k]);
+    for (const std::uint32_t k : s.slow) keep_pair(k);
   } else {
-    for (const detail::SolverPair& p : pairs) keep_pair(p);
+    for (std::uint32_t k = 0; k < pairs.size(); ++k) keep_pair(k);
   }
   if (record) {
     for (const detail::SolverPlane& pl : planes) {
@@ -265,13 +300,15 @@ void World::Impl::store_warm_start_and_events() {
 // jumping at random (bodies spawned in random order would otherwise stay scattered forever).
 // Measured on crush N=20,000: see the README's benchmark table.
 void World::Impl::reorder_dense() {
-  const std::vector<std::uint32_t>& order = grid.order();
+  std::vector<std::uint32_t>& order = solver_order;
   if (order.size() != bodies.size()) return;  // bodies were created or destroyed since the solve
   bodies.permute(order, body_scratch);
   params_scratch.resize(order.size());
   for (std::size_t s = 0; s < order.size(); ++s) params_scratch[s] = body_params[order[s]];
   params_scratch.swap(body_params);
   for (std::size_t s = 0; s < order.size(); ++s) slots[bodies.id[s].index()].ref = static_cast<std::uint32_t>(s);
+  // Dense index s now holds solver slot s; a kept pair list (in solver indices) stays valid.
+  for (std::size_t s = 0; s < order.size(); ++s) order[s] = static_cast<std::uint32_t>(s);
 }
 
 void World::Impl::finish_tick() {

@@ -15,7 +15,7 @@
 //   "settings": {                      // WorldSettings: same names, units and ranges; the list
 //                                      //   is src/scene/settings_fields.h
 //     "dt_s": 0.016666666666666666, "iterations": 8, "contact_margin_m": 0.05,
-//     "converged_pen_over_radius": 0.0001, "record_push_events": true, "warm_start": true,
+//     "pair_list_skin_m": 0.1, "converged_pen_over_radius": 0.0001, "record_push_events": true, "warm_start": true,
 //     "blocked_motion_carry": 0.9, "max_candidates_per_body": 48, "cell_size_m": 0,
 //     "morale_radius_m": 5, "morale_refresh_ticks": 15 },
 //   "params": "params.json",           // parameter table: file (relative to this file), inline

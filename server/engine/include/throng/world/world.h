@@ -32,6 +32,9 @@ namespace throng {
 
 class ByteWriter;
 class ByteReader;
+namespace detail {
+struct WorldProbe;  // read access to the internals, for the engine's own tests
+}
 
 class World {
  public:
@@ -105,6 +108,7 @@ class World {
   double scenery_max_penetration(std::size_t dense_index) const;
 
  private:
+  friend struct detail::WorldProbe;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -12,6 +12,13 @@ struct WorldSettings {
   // Pairs closer than r_a + r_b + margin are kept as contact candidates for the whole tick, so that
   // contacts created by pushes during the iterations are still seen. [0, 10] m
   double contact_margin_m = 0.05;
+  // Pair list skin (a Verlet list): in a world without fixed scenery whose shares need only the two
+  // resistances, the candidate pairs are searched within r_a + r_b + margin + skin and the list is
+  // kept across ticks until two bodies together have moved more than the skin since the search.
+  // Each tick takes from it the pairs a search with the margin would find (every one of them is in
+  // it, see world_pair_list.cpp), with last tick's pushes, in the order of that search. 0 = search
+  // every tick. [0, 1] m
+  double pair_list_skin_m = 0.2;
   // Early exit: stop iterating once no pair penetrates deeper than this fraction of the smaller
   // radius. 0 = always use the full budget. [0, 1]
   double converged_pen_over_radius = 1e-4;

@@ -1,0 +1,237 @@
+// The pair list kept across ticks (server/engine/src/world/world_pair_list.cpp): a kept tick
+// solves exactly the pairs a search with the contact margin finds; a tick that searches the list
+// gives the bits a plain search gives; anything but motion drops the list; a restored world keeps
+// the saved world's list and continues bit-identically; a crowd too fast for the skin stops
+// searching lists for a while.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <set>
+#include <utility>
+#include <vector>
+
+#include "throng/core/byte_io.h"
+#include "throng/params/push_policy.h"
+#include "throng/scene/build_scene.h"
+#include "throng/scene/builtin_scenes.h"
+#include "throng/scene/scale.h"
+#include "world/world_fixtures.h"
+#include "world/world_impl.h"
+
+namespace throng::detail {
+struct WorldProbe {
+  using Impl = World::Impl;
+  static const Impl& impl(const World& w) { return *w.impl_; }
+};
+}  // namespace throng::detail
+
+namespace throng {
+namespace {
+
+using detail::WorldProbe;
+using Impl = WorldProbe::Impl;
+using PairSet = std::set<std::pair<std::uint32_t, std::uint32_t>>;
+
+scene::BuiltScene crowd(const char* name, std::uint64_t agents, double skin) {
+  scene::SceneDef def = scene::scale_scene(scene::builtin_scene(name), agents);
+  def.settings.pair_list_skin_m = skin;
+  return scene::build_scene(def);
+}
+
+const StepStats& step(scene::BuiltScene& b) {
+  b.driver.apply(b.world);
+  return b.world.step();
+}
+
+// Every pair the grid's candidate test with the contact margin accepts at the solve's start
+// positions (solver indices, lower first), by brute force over a sweep in x.
+PairSet searched_pairs(const Impl& w) {
+  const detail::SolverBodies& b = w.sb;
+  const double margin = w.settings.contact_margin_m;
+  const std::size_t n = b.size();
+  std::vector<std::uint32_t> by_x(n);
+  for (std::uint32_t i = 0; i < n; ++i) by_x[i] = i;
+  std::sort(by_x.begin(), by_x.end(), [&](std::uint32_t p, std::uint32_t q) { return b.x[p] < b.x[q]; });
+  const double max_r = *std::max_element(b.r.begin(), b.r.end());
+  PairSet out;
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::uint32_t i = by_x[k];
+    for (std::size_t l = k + 1; l < n && b.x[by_x[l]] - b.x[i] < 2.0 * max_r + margin; ++l) {
+      const std::uint32_t j = by_x[l];
+      const double dx = b.x[j] - b.x[i], dy = b.y[j] - b.y[i];
+      const double reach = b.r[i] + b.r[j] + margin;
+      const double gap_z = std::fabs(b.z[j] - b.z[i]) - b.hh[i] - b.hh[j];
+      const bool filter = (w.sgroup[i] & w.smask[j]) != 0 && (w.sgroup[j] & w.smask[i]) != 0;
+      if (dx * dx + dy * dy < reach * reach && gap_z < reach && filter) out.insert({std::min(i, j), std::max(i, j)});
+    }
+  }
+  return out;
+}
+
+PairSet solved_pairs(const Impl& w) {
+  PairSet out;
+  for (const detail::SolverPair& p : w.pairs) out.insert({std::min(p.a, p.b), std::max(p.a, p.b)});
+  return out;
+}
+
+TEST(PairList, KeptTicksSolveExactlyThePairsASearchFinds) {
+  scene::BuiltScene b = crowd("crush", 3000, 0.2);
+  const Impl& w = WorldProbe::impl(b.world);
+  int kept = 0, compared = 0;
+  for (int t = 0; t < 150; ++t) {
+    const StepStats& st = step(b);
+    if (st.pair_list_reused == 0) continue;
+    ++kept;
+    // A scheduled solve keeps the start positions in sb (an unscheduled one moves them).
+    if (!w.sb.displaced) continue;
+    ++compared;
+    const PairSet solved = solved_pairs(w);
+    ASSERT_EQ(solved.size(), w.pairs.size()) << "a pair listed twice, tick " << st.tick;
+    ASSERT_EQ(solved, searched_pairs(w)) << "tick " << st.tick;
+  }
+  EXPECT_GT(kept, 75);
+  EXPECT_GT(compared, 50);
+}
+
+// The list is sorted as the fine grid's search lists its pairs, and its search tick takes the
+// pushes from the cache, so a world that searches a list computes the plain search's bits (here
+// the first tick, whose solve runs in the pairs' own order: no warm pushes yet). `mixed` has three
+// radii, so pairs across grid levels too.
+TEST(PairList, SearchTickGivesThePlainSearchsBits) {
+  for (const char* name : {"crush", "mixed"}) {
+    SCOPED_TRACE(name);
+    scene::BuiltScene with = crowd(name, 3000, 0.2);
+    scene::BuiltScene without = crowd(name, 3000, 0.0);
+    const StepStats a = step(with);
+    const StepStats b = step(without);
+    EXPECT_TRUE(WorldProbe::impl(with.world).list.valid);
+    EXPECT_FALSE(WorldProbe::impl(without.world).list.valid);
+    EXPECT_EQ(a.candidate_pairs, b.candidate_pairs);
+    EXPECT_EQ(with.world.state_hash(), without.world.state_hash());
+    for (int t = 0; t < 30; ++t) EXPECT_EQ(step(without).pair_list_reused, 0u);
+  }
+}
+
+TEST(PairList, AnythingButMotionDropsTheList) {
+  scene::BuiltScene b = crowd("crush", 2000, 0.2);
+  World& w = b.world;
+  const Impl& impl = WorldProbe::impl(w);
+  // The driver steers by body id (it would not know a destroyed body): steer for a while, then let
+  // the bodies keep their desired velocities.
+  for (int t = 0; t < 10; ++t) step(b);
+  // Runs until the list has been kept for a tick, then applies `change` and steps once.
+  auto kept_after = [&](auto&& change) {
+    for (int t = 0; t < 20 && w.step().pair_list_reused == 0; ++t) {
+    }
+    EXPECT_TRUE(impl.list.valid);
+    change();
+    return w.step().pair_list_reused != 0;
+  };
+  const ObjectId someone = w.id_at(7);
+  EXPECT_FALSE(kept_after([&] { w.set_position(someone, w.position(someone)); }));
+  EXPECT_FALSE(kept_after([&] { w.set_grounded(someone, true); }));
+  EXPECT_FALSE(kept_after([&] { w.set_param(someone, params::Param::collision_group, 2.0); }));
+  EXPECT_FALSE(kept_after([&] { w.destroy_body(w.id_at(w.id_at(11) == someone ? 12 : 11)); }));
+  EXPECT_FALSE(kept_after([&] {
+    BodyDef d;
+    d.position = {500.0, 500.0, 0.35};
+    d.archetype = "infantry";  // the crush scene's
+    w.create_body(d);
+  }));
+  // A parameter that only changes a resistance keeps the list, with the new shares.
+  auto resistance_of = [&](ObjectId id) {
+    for (std::size_t d = 0; d < impl.bodies.size(); ++d) {
+      if (impl.bodies.id[d] == id) return impl.bodies.resistance[d];
+    }
+    return -1.0;
+  };
+  const double resistance_before = resistance_of(someone);
+  EXPECT_TRUE(kept_after([&] { w.set_param(someone, params::Param::weight_kg, 400.0); }));
+  EXPECT_NE(resistance_of(someone), resistance_before);
+  std::size_t checked = 0;
+  for (const detail::SolverPair& p : impl.pairs) {
+    const double ra = impl.bodies.resistance[impl.solver_order[p.a]];
+    const double rb = impl.bodies.resistance[impl.solver_order[p.b]];
+    ASSERT_EQ(p.share_a, params::share_a_fast(ra, rb));
+    checked += impl.bodies.id[impl.solver_order[p.a]] == someone || impl.bodies.id[impl.solver_order[p.b]] == someone;
+  }
+  EXPECT_GT(checked, 0u);
+}
+
+TEST(PairList, RestoredWorldKeepsTheListBitIdentically) {
+  scene::BuiltScene a = crowd("crush", 2000, 0.2);
+  int run = 0;
+  for (int t = 0; t < 100 && run < 2; ++t) run = step(a).pair_list_reused != 0 ? run + 1 : 0;
+  ASSERT_EQ(run, 2) << "no list kept for two ticks";
+  std::vector<std::uint8_t> saved;
+  a.world.save_state(saved);
+  scene::BuiltScene b = crowd("crush", 2000, 0.2);
+  b.world.restore_state(saved);
+  int kept = 0;
+  for (int t = 0; t < 60; ++t) {
+    const std::uint32_t ka = step(a).pair_list_reused;
+    const std::uint32_t kb = step(b).pair_list_reused;
+    ASSERT_EQ(ka, kb) << "tick " << a.world.tick();
+    ASSERT_EQ(a.world.state_hash(), b.world.state_hash()) << "tick " << a.world.tick();
+    kept += static_cast<int>(ka);
+    if (t == 0) {
+      EXPECT_EQ(kb, 1u) << "the restored world searched afresh instead of keeping the saved list";
+    }
+  }
+  EXPECT_GT(kept, 20);
+}
+
+TEST(PairList, CheckpointRejectsABrokenList) {
+  scene::BuiltScene a = crowd("crush", 500, 0.2);
+  for (int t = 0; t < 200 && !WorldProbe::impl(a.world).list.valid; ++t) step(a);
+  ASSERT_TRUE(WorldProbe::impl(a.world).list.valid);
+  std::vector<std::uint8_t> saved;
+  a.world.save_state(saved);
+  // The list's positions are the last bytes of the section: the last body's z.
+  std::vector<std::uint8_t> bad = saved;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::memcpy(bad.data() + bad.size() - 8, &nan, 8);
+  scene::BuiltScene b = crowd("crush", 500, 0.2);
+  const std::uint64_t before = b.world.state_hash();
+  try {
+    b.world.restore_state(bad);
+    ADD_FAILURE() << "a NaN list position was accepted";
+  } catch (const CheckpointError& e) {
+    EXPECT_NE(std::string(e.what()).find("pair list"), std::string::npos) << e.what();
+  }
+  saved.pop_back();
+  EXPECT_THROW(b.world.restore_state(saved), CheckpointError);
+  EXPECT_EQ(b.world.state_hash(), before);
+}
+
+// Two columns passing each other at 9 m/s (0.15 m a tick each): every list is outrun in its first tick, so the world
+// searches without a list for the next kCooldownTicks ticks before it tries again.
+TEST(PairList, TooFastForTheSkinSearchesWithoutAListForAWhile) {
+  WorldSettings s;
+  World w(s, test::test_table(), test::weight_policy(params::PushMode::ratio, 100.0));
+  std::vector<ObjectId> ids;
+  for (int k = 0; k < 200; ++k) {
+    // 0.8 m apart within a column (pairs of the list, not of the margin), columns 2 m apart.
+    ids.push_back(test::add_sphere(w, k % 2 == 0 ? -1.0 : 1.0, 0.8 * (k / 2)));
+    w.set_desired_velocity(ids.back(), Vec3{0.0, k % 2 == 0 ? 9.0 : -9.0, 0.0});
+  }
+  const Impl& impl = WorldProbe::impl(w);
+  int searches = 0;
+  for (int t = 0; t < 40; ++t) {
+    const bool cooling = impl.list.cooldown > 0;
+    const StepStats& st = w.step();
+    EXPECT_EQ(st.pair_list_reused, 0u) << "tick " << st.tick;
+    if (impl.list.valid) {
+      ++searches;
+      EXPECT_FALSE(cooling);
+    }
+  }
+  // A search, then the next tick finds it outrun and the cooldown starts: one in 1 + 8 ticks.
+  EXPECT_EQ(searches, (40 + Impl::PairList::kCooldownTicks) / (1 + Impl::PairList::kCooldownTicks));
+}
+
+}  // namespace
+}  // namespace throng
