@@ -13,6 +13,8 @@
 // pile-relief list, morale point index, camera_xyz, the reorder scratch stores, the median
 // scratch, `dyn` (recomputed from the policy: restore forces it), the scenery cells (rebuilt from
 // the saved reach) and StepStats/push_events (describe the last step only; empty after restore).
+// The kept pair list is saved as where it was searched (world_pair_list.cpp says why that is
+// enough).
 // Not saved because it is configuration, checked by the config hash instead: WorldSettings other
 // than iterations, the scenery shapes, the parameter table.
 #include <cmath>

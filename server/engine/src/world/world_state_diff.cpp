@@ -57,6 +57,14 @@ std::string compare(const detail::WorldState& A, std::size_t i, const detail::Wo
       add(w, "warm.lambda", ea.lambda, eb.lambda);
     }
   }
+  // Where a kept pair list was searched (the list follows from it).
+  if (A.pair_list_kept != B.pair_list_kept) {
+    add(w, "pair_list_kept", A.pair_list_kept, B.pair_list_kept);
+  } else if (A.pair_list_kept) {
+    add(w, "pair_list.x", A.pair_list_x[i], B.pair_list_x[j]);
+    add(w, "pair_list.y", A.pair_list_y[i], B.pair_list_y[j]);
+    add(w, "pair_list.z", A.pair_list_z[i], B.pair_list_z[j]);
+  }
   const params::ObjectParams& pa = A.body_params[i];
   const params::ObjectParams& pb = B.body_params[j];
   for (std::size_t k = 0; k < params::kParamCount; ++k) {
