@@ -56,5 +56,39 @@ TEST(WorldNoAllocation, SettledCrowdTicksWithoutAllocating) {
   EXPECT_EQ(g_allocations.load(), 0u);
 }
 
+// An open crowd (no scenery) keeps its pair list across ticks and searches a new one now and then
+// (world_pair_list.cpp): neither allocates once the crowd has settled into its jam.
+TEST(WorldNoAllocation, OpenCrowdWithAKeptPairListTicksWithoutAllocating) {
+  WorldSettings s;
+  s.iterations = 8;
+  World w(s, test_table(), weight_policy(params::PushMode::ratio, 100.0));
+  for (int i = 0; i < 40; ++i) {
+    for (int j = 0; j < 40; ++j) add_sphere(w, -13.0 + 0.66 * i, -13.0 + 0.66 * j, 0.35, (i + j) % 3 ? "infantry" : "heavy");
+  }
+  auto steer = [&] {
+    for (std::size_t k = 0; k < w.body_count(); ++k) {
+      const double x = w.pos_x()[k], y = w.pos_y()[k], d = std::hypot(x, y);
+      w.set_desired_velocity(w.id_at(k), d > 0.5 ? Vec3{-x / d, -y / d, 0.0} : Vec3{});
+    }
+  };
+  for (int t = 0; t < 200; ++t) {
+    steer();
+    w.step();
+  }
+  std::uint32_t kept = 0, searched = 0;
+  g_allocations = 0;
+  for (int t = 0; t < 64; ++t) {
+    steer();  // outside the counted step
+    g_counting = true;
+    const StepStats& st = w.step();
+    g_counting = false;
+    kept += st.pair_list_reused;
+    searched += 1 - st.pair_list_reused;
+  }
+  EXPECT_EQ(g_allocations.load(), 0u);
+  EXPECT_GT(kept, 0u);
+  EXPECT_GT(searched, 0u);
+}
+
 }  // namespace
 }  // namespace throng

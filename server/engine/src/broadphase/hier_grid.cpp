@@ -220,6 +220,7 @@ void HierGrid::sort_level(Level& lv, const std::int32_t* cxy, const std::uint32_
 void HierGrid::build(const double* x, const double* y, const double* r, std::size_t n, double margin_m,
                      double cell0_m) {
   if (levels_.size() < kMaxLevels) levels_.resize(kMaxLevels);
+  build_margin_m_ = margin_m;
   level_of_.resize(n);
   coords_.resize(2 * n);
   order_.resize(n);
@@ -326,7 +327,11 @@ std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::ui
   std::size_t count = out.size();
   out.resize(out.capacity());
   // Each body examines at most max_candidates bodies: its own cell's later bodies and the right
-  // cell first, then the (up to three) cells of the row above.
+  // cell first, then the (up to three) cells of the row above. A search margin wider than the
+  // build's (a pair list's skin) reaches two cells: the cell's later bodies and the next two cells,
+  // then five cells in each of the two rows above (see search_reach_cells).
+  const double extra = std::max(0.0, margin - build_margin_m_);
+  const int reach_cells = extra > 0.0 ? 2 : 1;
   const auto scan_all = [&](auto mode) {
     constexpr TestMode kMode = decltype(mode)::value;
     CandidatePair* buf = out.data();
@@ -336,49 +341,78 @@ std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::ui
       buf = out.data();
       room = out.size();
     };
-    const auto scan_body = [&](std::uint32_t i, std::uint32_t near_end, std::uint32_t up_begin, std::uint32_t up_end) {
-      const std::uint32_t near_len = std::min(near_end - (i + 1), max_candidates);
-      const std::uint32_t up_len = std::min(up_end - up_begin, max_candidates - near_len);
-      if (near_len + up_len == max_candidates) ++capped;
-      if (room < count + near_len + up_len) grow(count + near_len + up_len);
+    // Body i against [i + 1, near_end) and then the ranges above, in that order, within its budget.
+    struct Range {
+      std::uint32_t begin, end;
+    };
+    const auto scan_body = [&](std::uint32_t i, std::uint32_t near_end, const Range* up, int up_count) {
+      std::uint32_t budget = max_candidates;
+      const std::uint32_t near_len = std::min(near_end - (i + 1), budget);
+      budget -= near_len;
+      std::uint32_t up_len[2] = {0, 0};
+      for (int u = 0; u < up_count; ++u) {
+        up_len[u] = std::min(up[u].end - up[u].begin, budget);
+        budget -= up_len[u];
+      }
+      if (budget == 0) ++capped;
+      const std::size_t need = count + max_candidates;
+      if (room < need) grow(need);
       count = scan_range<kMode>(a, i, i + 1, near_len, margin, buf, count);
-      count = scan_range<kMode>(a, i, up_begin, up_len, margin, buf, count);
+      for (int u = 0; u < up_count; ++u) count = scan_range<kMode>(a, i, up[u].begin, up_len[u], margin, buf, count);
     };
     for (int l = 0; l < level_count_; ++l) {
       const std::vector<Cell>& cells = levels_[l].cells;
       const std::uint64_t stride = levels_[l].stride;
+      const std::uint64_t rows = levels_[l].rows;
       if (!levels_[l].start.empty()) {
         // Counting-sorted level: start[k] is the first body of key k for every key, so the right
         // neighbour ends at start[key + 2] and the row above spans [start[key + stride - 1],
         // start[key + stride + 2]) (empty cells contribute nothing). Occupied keys are interior,
-        // so key + stride + 2 <= stride * rows.
+        // so key + stride + 2 <= stride * rows. Two cells out: key + 2 is at worst the next row's
+        // empty border cell and key - 2 the previous row's, so the ranges still hold only the
+        // cells meant; a row beyond the last holds nothing.
         const std::uint32_t* start = levels_[l].start.data();
         for (const Cell& c : cells) {
           const std::uint64_t k = c.key;
-          const std::uint32_t near_end = start[k + 2];
-          const std::uint32_t up_begin = start[k + stride - 1], up_end = start[k + stride + 2];
-          for (std::uint32_t i = c.begin; i < c.end; ++i) scan_body(i, near_end, up_begin, up_end);
+          Range up[2];
+          int up_count = 0;
+          std::uint32_t near_end;
+          if (reach_cells == 1) {
+            near_end = start[k + 2];
+            up[up_count++] = {start[k + stride - 1], start[k + stride + 2]};
+          } else {
+            near_end = start[k + 3];
+            const std::uint64_t row = k / stride;
+            for (std::uint64_t r = 1; r <= 2 && row + r < rows; ++r) {
+              up[up_count++] = {start[k + r * stride - 2], start[k + r * stride + 3]};
+            }
+          }
+          for (std::uint32_t i = c.begin; i < c.end; ++i) scan_body(i, near_end, up, up_count);
         }
         continue;
       }
-      std::size_t up = 0;  // first cell at or after (cx - 1, cy + 1); only moves forward
+      std::size_t up_at[2] = {0, 0};  // first cell at or after (cx - reach, cy + r); only moves forward
       for (std::size_t k = 0; k < cells.size(); ++k) {
         const Cell& c = cells[k];
-        const std::uint64_t up_lo = c.key + stride - 1, up_hi = c.key + stride + 1;
-        while (up < cells.size() && cells[up].key < up_lo) ++up;
-        // The cell and its right neighbour are adjacent in the sorted order, and so are the (up
-        // to three) cells of the row above: two contiguous ranges of bodies, scanned in the same
-        // order as cell by cell.
-        const std::uint32_t near_end =
-            (k + 1 < cells.size() && cells[k + 1].key == c.key + 1) ? cells[k + 1].end : c.end;
-        std::uint32_t up_begin = 0, up_end = 0;
-        if (up < cells.size() && cells[up].key <= up_hi) {
-          std::size_t q = up;
-          while (q + 1 < cells.size() && cells[q + 1].key <= up_hi) ++q;
-          up_begin = cells[up].begin;
-          up_end = cells[q].end;
+        // The cell and its right neighbours are adjacent in the sorted order, and so are the cells
+        // of a row above: contiguous ranges of bodies, scanned in the same order as cell by cell.
+        std::size_t last = k;
+        while (last + 1 < cells.size() && cells[last + 1].key <= c.key + static_cast<std::uint64_t>(reach_cells)) ++last;
+        const std::uint32_t near_end = cells[last].end;
+        Range up[2];
+        int up_count = 0;
+        for (int r = 1; r <= reach_cells; ++r) {
+          const std::uint64_t up_lo = c.key + static_cast<std::uint64_t>(r) * stride - static_cast<std::uint64_t>(reach_cells);
+          const std::uint64_t up_hi = c.key + static_cast<std::uint64_t>(r) * stride + static_cast<std::uint64_t>(reach_cells);
+          std::size_t& u = up_at[r - 1];
+          while (u < cells.size() && cells[u].key < up_lo) ++u;
+          if (u < cells.size() && cells[u].key <= up_hi) {
+            std::size_t q = u;
+            while (q + 1 < cells.size() && cells[q + 1].key <= up_hi) ++q;
+            up[up_count++] = {cells[u].begin, cells[q].end};
+          }
         }
-        for (std::uint32_t i = c.begin; i < c.end; ++i) scan_body(i, near_end, up_begin, up_end);
+        for (std::uint32_t i = c.begin; i < c.end; ++i) scan_body(i, near_end, up, up_count);
       }
     }
     // Cross-level pairs: each body of a coarser level queries the finer levels over its box, row by
@@ -391,7 +425,7 @@ std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::ui
         for (int m = 0; m < l; ++m) {
           const Level& fine = levels_[m];
           if (fine.cells.empty()) continue;
-          const double reach = a.r[i] + fine.max_reach_m;
+          const double reach = a.r[i] + fine.max_reach_m + extra;
           const double inv = 1.0 / fine.cell_m;
           const std::int64_t cx0 = cell_coord(a.x[i] - reach, inv), cx1 = cell_coord(a.x[i] + reach, inv);
           // Rows outside the level's occupied rows hold no bodies: skip them.

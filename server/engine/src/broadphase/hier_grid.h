@@ -70,9 +70,15 @@ class HierGrid {
 
   // Appends all candidate pairs (a < b not required; each unordered pair appears once) in a
   // deterministic order: finest level first, in row-major cell order. Returns the number of bodies
-  // whose candidate budget ran out.
+  // whose candidate budget ran out. margin_m may exceed the build's margin by up to
+  // max_extra_margin(cell0_m, build margin) (a pair list's skin): the search then reaches two
+  // cells out instead of one.
   std::uint32_t find_pairs(const GridBodyView& v, double margin_m, std::uint32_t max_candidates,
                            std::vector<CandidatePair>& out) const;
+  // How much wider than the build's margin a search may reach with two cells: a body of level l
+  // has 2 (r + margin) <= cell_l, so its widest pair 2 r + margin + extra stays within 2 cell_l
+  // while extra <= cell_l + margin, and cell_l >= cell0.
+  static double max_extra_margin(double cell0_m, double margin_m) { return cell0_m + margin_m; }
 
  private:
   struct Cell {
@@ -115,6 +121,7 @@ class HierGrid {
 
   std::vector<Level> levels_;
   int level_count_ = 0;
+  double build_margin_m_ = 0.0;
   std::vector<std::uint32_t> order_;
   std::vector<KeyIndex> items_, scratch_;
   std::vector<std::uint8_t> level_of_;

@@ -124,13 +124,8 @@ struct World::Impl {
     // A restored world searches again at the saved positions (dense order) before its next step.
     bool restore_pending = false;
     std::vector<double> restored_x, restored_y, restored_z;
-    // Search scratch: a coarser grid over the solver order and its candidates.
-    detail::HierGrid grid;
-    std::vector<double> cx, cy, cz, cr, chh;
-    std::vector<std::uint32_t> cgroup, cmask;
-    std::vector<detail::CandidatePair> found;
-    std::vector<std::uint32_t> bucket;  // counting sort of the found pairs by the body listing them
-    std::vector<std::uint8_t> level_of;  // fine grid level per solver index
+    bool fresh = false;  // searched this tick: the pushes are still to be looked up in the cache
+    std::vector<detail::CandidatePair> found;  // search scratch
   } list;
 
   // Spatial reordering of the dense arrays (world_step.cpp).
@@ -165,6 +160,9 @@ struct World::Impl {
   float warm_push(std::uint32_t a, std::uint32_t b) const;
   bool pair_list_eligible() const;
   bool search_pair_list(const double* x, const double* y, const double* z);
+  double pair_list_skin();
+  template <bool kFresh>
+  void take_list_pairs();
   void pairs_from_list();
   bool relieve_piles();
   void build_scenery_planes();

@@ -8,11 +8,12 @@
 // search. Each tick then takes from the list the pairs the margin's own test accepts (the same test
 // as the grid's, on the same positions), so the solve sees exactly the pairs a search would give.
 //
-// Order: a Gauss-Seidel sweep converges as well as its order lets pressure travel. The list is
-// searched on a grid coarse enough for the skin, but that grid's order is coarse too (crush 20k,
-// K = 16, 1.2 m cells instead of 0.8 m: p99 residual 0.071-0.087 instead of 0.037-0.049 over r).
-// So the bodies keep the fine grid's order (the margin's cells) and the list is sorted as the fine
-// grid's search lists its pairs (each pair under the body the fine search finds it from).
+// Order: a Gauss-Seidel sweep converges as well as its order lets pressure travel, so the list is
+// searched on the fine grid itself, two cells out (HierGrid::find_pairs), rather than on a grid
+// with cells as wide as the skin: that grid's order is coarser (crush 20k, K = 16, 1.2 m cells
+// instead of 0.8 m: p99 residual 0.071-0.087 instead of 0.037-0.049 over r). The two-cell search
+// lists the margin's pairs in exactly the order and orientation of the margin's own search
+// (tested), so the tick that searches a list computes the bits a plain search computes.
 //
 // Pushes: each entry keeps the push its pair ended last tick with, zeroed when the warm-start
 // cache could not keep it (its owner's slots were full) or when the pair was not taken (beyond the
@@ -68,7 +69,6 @@ void World::Impl::find_pairs() {
     return;
   }
   const std::size_t n = bodies.size();
-  const double skin = settings.pair_list_skin_m;
   if (list.valid || list.restore_pending) {
     // A restored world compares with where the saved world searched its list (dense order).
     const bool restored = list.restore_pending;
@@ -76,10 +76,10 @@ void World::Impl::find_pairs() {
     const bool covers =
         restored ? list.restored_x.size() == n &&
                        within_skin(n, bodies.x.data(), bodies.y.data(), bodies.z.data(), nullptr, list.restored_x.data(),
-                                   list.restored_y.data(), list.restored_z.data(), skin)
+                                   list.restored_y.data(), list.restored_z.data(), pair_list_skin())
                  : solver_order.size() == n &&
                        within_skin(n, bodies.x.data(), bodies.y.data(), bodies.z.data(), solver_order.data(),
-                                   list.x.data(), list.y.data(), list.z.data(), skin);
+                                   list.x.data(), list.y.data(), list.z.data(), pair_list_skin());
     // The saved world's list, searched again where it was searched (its pushes come from the cache).
     if (covers && restored) list.valid = search_pair_list(list.restored_x.data(), list.restored_y.data(), list.restored_z.data());
     if (covers && list.valid) {
@@ -109,99 +109,112 @@ void World::Impl::find_pairs() {
   }
 }
 
+// The skin the fine grid can search (HierGrid::max_extra_margin): the configured one unless the
+// bodies are so small that their cells are narrower than it. Depends on the radii only.
+double World::Impl::pair_list_skin() {
+  const double margin = settings.contact_margin_m;
+  return std::min(settings.pair_list_skin_m, detail::HierGrid::max_extra_margin(cell0_size(margin), margin));
+}
+
 // Searches the list at positions (x, y, z) (dense order): the bodies' own, or a restored world's
 // saved ones. Returns false (and leaves the fine grid and the solver's bodies set up at the bodies'
 // positions) if the list cannot be kept.
 bool World::Impl::search_pair_list(const double* x, const double* y, const double* z) {
-  const std::size_t n = bodies.size();
   const double margin = settings.contact_margin_m;
-  const double reach_margin = margin + settings.pair_list_skin_m;
   // The fine grid gives the bodies' order. Pile relief moves the bodies (only ever at their own
   // positions: a kept list's search relieved none, and a search at the same positions again would
   // not either).
   const bool relieved = fine_grid(x, y, z, x == bodies.x.data());
   if (relieved) return false;
-  // The coarse grid over the bodies in that order finds the list.
+  // The fine grid's own search, two cells out: the pairs come in the order a search with the
+  // margin lists them, so this tick's pairs (the entries within the margin) are that search's.
   PairList& l = list;
-  l.cx.resize(n); l.cy.resize(n); l.cz.resize(n); l.cr.resize(n); l.chh.resize(n);
-  l.cgroup.resize(n); l.cmask.resize(n);
-  l.grid.build(sb.x.data(), sb.y.data(), sb.r.data(), n, reach_margin, cell0_size(reach_margin));
-  const std::vector<std::uint32_t>& corder = l.grid.order();
-  for (std::size_t c = 0; c < n; ++c) {
-    const std::uint32_t s = corder[c];
-    l.cx[c] = sb.x[s]; l.cy[c] = sb.y[s]; l.cz[c] = sb.z[s]; l.cr[c] = sb.r[s]; l.chh[c] = sb.hh[s];
-    l.cgroup[c] = sgroup[s]; l.cmask[c] = smask[s];
-  }
   l.found.clear();
-  const detail::GridBodyView view{l.cx.data(), l.cy.data(), l.cz.data(), l.cr.data(), l.chh.data(),
-                                  l.cgroup.data(), l.cmask.data()};
-  if (l.grid.find_pairs(view, reach_margin, settings.max_candidates_per_body, l.found) != 0) {
+  const detail::GridBodyView view{sb.x.data(), sb.y.data(), sb.z.data(), sb.r.data(), sb.hh.data(),
+                                  sgroup.data(), smask.data()};
+  if (grid.find_pairs(view, margin + pair_list_skin(), settings.max_candidates_per_body, l.found) != 0) {
     if (x != bodies.x.data()) fine_grid(bodies.x.data(), bodies.y.data(), bodies.z.data(), false);
     return false;
   }
-  // Sort the pairs as the fine grid's own search lists them (hier_grid.cpp, find_pairs): first
-  // every pair within one level under its lower solver index, then every pair across levels under
-  // its coarser body (a larger body searches the finer levels for its pairs; the coarser levels
-  // come later in the solver order), each body's pairs by the other body's index. A counting sort
-  // by the listing body (cross-level ones after all the others), then the few pairs of each body
-  // by the other.
+  // Per entry what stays while the list is kept: the separation target, the margin's reach (the
+  // grid's candidate test, hier_grid.cpp scan_one: a grounded pair's height gap cannot change), and
+  // the share. The pushes are looked up in the cache by this tick's pairs_from_list, for the
+  // entries within the margin only (the others start at zero anyway).
   const std::size_t m = l.found.size();
-  l.level_of.resize(n);
-  for (int lv = 0; lv < grid.level_count(); ++lv) {
-    std::fill(l.level_of.begin() + grid.level_begin(lv), l.level_of.begin() + grid.level_begin(lv + 1),
-              static_cast<std::uint8_t>(lv));
-  }
-  const std::size_t keys = 2 * n;
-  l.bucket.assign(keys + 1, 0);
-  for (detail::CandidatePair& p : l.found) {
-    const std::uint32_t a = corder[p.a], b = corder[p.b];
-    const bool one_level = l.level_of[a] == l.level_of[b];
-    p.a = one_level ? std::min(a, b) : std::max(a, b);  // the body the pair is listed under
-    p.b = one_level ? std::max(a, b) : std::min(a, b);
-    ++l.bucket[(one_level ? p.a : n + p.a) + 1];
-  }
-  for (std::size_t key = 0; key < keys; ++key) l.bucket[key + 1] += l.bucket[key];
   l.a.resize(m);
   l.b.resize(m);
-  for (const detail::CandidatePair& p : l.found) {
-    const std::uint32_t at = l.bucket[l.level_of[p.a] == l.level_of[p.b] ? p.a : n + p.a]++;
-    l.a[at] = p.a;
-    l.b[at] = p.b;
-  }
-  for (std::size_t begin = 0, key = 0; key < keys; ++key) {
-    const std::size_t end = l.bucket[key];  // after the scatter: the end of this key's pairs
-    for (std::size_t k = begin + 1; k < end; ++k) {
-      const std::uint32_t b = l.b[k];
-      std::size_t t = k;
-      while (t > begin && l.b[t - 1] > b) { l.b[t] = l.b[t - 1]; --t; }
-      l.b[t] = b;
-    }
-    begin = end;
-  }
-  // Per entry what stays while the list is kept: the separation target, the margin's reach (the
-  // grid's candidate test, hier_grid.cpp scan_one: a grounded pair's height gap cannot change), the
-  // share, and the push the warm-start cache holds.
   l.target.resize(m);
   l.reach.resize(m);
   l.share.resize(m);
   l.lambda.resize(m);
   for (std::size_t e = 0; e < m; ++e) {
-    const std::uint32_t a = l.a[e], b = l.b[e];
+    const std::uint32_t a = l.found[e].a, b = l.found[e].b;
+    l.a[e] = a;
+    l.b[e] = b;
     l.target[e] = pair_target(a, b);
     const double reach = sb.r[a] + sb.r[b] + margin;
     const double gap_z = std::fabs(sb.z[b] - sb.z[a]) - sb.hh[a] - sb.hh[b];
     l.reach[e] = (sb.grounded[a] & sb.grounded[b]) && gap_z >= reach ? 0.0 : reach;
     l.share[e] = params::share_a_fast(bodies.resistance[solver_order[a]], bodies.resistance[solver_order[b]]);
-    l.lambda[e] = warm_push(a, b);
   }
   l.shares_stale = false;
+  l.fresh = true;
   l.x = sb.x;
   l.y = sb.y;
   l.z = sb.z;
   return true;
 }
 
-// This tick's pairs: the list's entries the margin's test accepts at the bodies' positions now.
+// This tick's pairs: the list's entries the margin's test accepts at the bodies' positions now,
+// with the push each kept (or, right after a search, the push the cache holds).
+template <bool kFresh>
+void World::Impl::take_list_pairs() {
+  PairList& l = list;
+  const std::size_t m = l.a.size();
+  const double* x = sb.x.data();
+  const double* y = sb.y.data();
+  detail::SolverPair* out = pairs.data();
+  std::uint32_t* of_pair = l.of_pair.data();
+  std::size_t k = 0;
+  std::size_t warm = 0;
+  for (std::size_t e = 0; e < m; ++e) {
+    const std::uint32_t a = l.a[e], b = l.b[e];
+    // The grid's candidate test (hier_grid.cpp, scan_one) with the margin; a pair with an airborne
+    // body also tests its height gap now.
+    const double dx = x[b] - x[a];
+    const double dy = y[b] - y[a];
+    const double reach = l.reach[e];
+    bool live = !(dx * dx + dy * dy >= reach * reach);
+    if (l.target[e] < 0.0) live &= !(std::fabs(sb.z[b] - sb.z[a]) - sb.hh[a] - sb.hh[b] >= reach);
+    // Not a pair this tick: no push (a search with the margin would not look one up). Masked, not
+    // selected: the compiler made the select a branch, mispredicted as often as the test above is
+    // random. Right after a search the push comes from the cache, looked up for every entry for
+    // the same reason.
+    float lambda = kFresh ? warm_push(a, b) : l.lambda[e];
+    std::uint32_t bits;
+    std::memcpy(&bits, &lambda, 4);
+    bits &= 0u - static_cast<std::uint32_t>(live);
+    std::memcpy(&lambda, &bits, 4);
+    l.lambda[e] = lambda;
+    // Written whether taken or not (the next write goes to the same slot unless it was): no branch
+    // on a test that fails for a third of the entries in no order.
+    detail::SolverPair& p = out[k];
+    p.a = a;
+    p.b = b;
+    p.share_a = l.share[e];
+    p.target = l.target[e];
+    p.lambda = static_cast<double>(lambda);
+    p.depth_start = 0.0;
+    p.resolved_once = 0;
+    warm += lambda > 0.0f ? 1 : 0;
+    of_pair[k] = static_cast<std::uint32_t>(e);
+    k += live ? 1 : 0;
+  }
+  pairs.resize(k);
+  warm_pairs = warm;
+  stats.candidate_pairs = static_cast<std::uint32_t>(k);
+}
+
 void World::Impl::pairs_from_list() {
   const std::size_t n = bodies.size();
   for (std::size_t s = 0; s < n; ++s) {
@@ -220,46 +233,9 @@ void World::Impl::pairs_from_list() {
   }
   pairs.resize(m);
   l.of_pair.resize(m);
-  const double* x = sb.x.data();
-  const double* y = sb.y.data();
-  detail::SolverPair* out = pairs.data();
-  std::uint32_t* of_pair = l.of_pair.data();
-  std::size_t k = 0;
-  std::size_t warm = 0;
-  for (std::size_t e = 0; e < m; ++e) {
-    const std::uint32_t a = l.a[e], b = l.b[e];
-    // The grid's candidate test (hier_grid.cpp, scan_one) with the margin; a pair with an airborne
-    // body also tests its height gap now.
-    const double dx = x[b] - x[a];
-    const double dy = y[b] - y[a];
-    const double reach = l.reach[e];
-    bool live = !(dx * dx + dy * dy >= reach * reach);
-    if (l.target[e] < 0.0) live &= !(std::fabs(sb.z[b] - sb.z[a]) - sb.hh[a] - sb.hh[b] >= reach);
-    // Written whether taken or not (the next write goes to the same slot unless it was): no branch
-    // on a test that fails for a third of the entries in no order.
-    detail::SolverPair& p = out[k];
-    p.a = a;
-    p.b = b;
-    p.share_a = l.share[e];
-    p.target = l.target[e];
-    // Not a pair this tick: no push kept either. Masked, not selected: the compiler made the select
-    // a branch, mispredicted as often as the test above is random.
-    std::uint32_t bits;
-    std::memcpy(&bits, &l.lambda[e], 4);
-    bits &= 0u - static_cast<std::uint32_t>(live);
-    float lambda;
-    std::memcpy(&lambda, &bits, 4);
-    l.lambda[e] = lambda;
-    p.lambda = static_cast<double>(lambda);
-    p.depth_start = 0.0;
-    p.resolved_once = 0;
-    warm += lambda > 0.0f ? 1 : 0;
-    of_pair[k] = static_cast<std::uint32_t>(e);
-    k += live ? 1 : 0;
-  }
-  pairs.resize(k);
-  warm_pairs = warm;
-  stats.candidate_pairs = static_cast<std::uint32_t>(k);
+  if (l.fresh) take_list_pairs<true>();
+  else take_list_pairs<false>();
+  l.fresh = false;
   stats.capped_bodies = 0;
 }
 

@@ -1,0 +1,138 @@
+// HierGrid::find_pairs against brute force, with the build's margin and with a wider search margin
+// (a pair list's skin, two cells out): every pair within reach is found exactly once, and the pairs
+// of a wider search that are within the build's margin come in exactly the order, and the
+// orientation, of the build margin's own search (the pair list relies on it).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <set>
+#include <utility>
+#include <vector>
+
+#include "broadphase/hier_grid.h"
+
+namespace throng::detail {
+namespace {
+
+struct Crowd {
+  std::vector<double> x, y, z, r, hh;
+  std::vector<std::uint32_t> group, mask;
+};
+
+// Bodies in a square of side `side`, radii drawn from `radii`, a few airborne (z raised) and a few
+// pass-through ones (group 2, mask 0).
+Crowd random_crowd(std::size_t n, double side, const std::vector<double>& radii, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Crowd c;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double r = radii[static_cast<std::size_t>(u(rng) * static_cast<double>(radii.size())) % radii.size()];
+    c.x.push_back(side * u(rng) - 0.5 * side);
+    c.y.push_back(side * u(rng) - 0.5 * side);
+    c.z.push_back(u(rng) < 0.1 ? r + 0.5 + u(rng) : r);
+    c.r.push_back(r);
+    c.hh.push_back(u(rng) < 0.5 ? 0.5 : 0.0);
+    const bool ghost = u(rng) < 0.02;
+    c.group.push_back(ghost ? 2u : 1u);
+    c.mask.push_back(ghost ? 0u : 0xffffffffu);
+  }
+  return c;
+}
+
+struct Sorted {
+  Crowd c;  // solver order
+  std::vector<std::uint32_t> order;
+};
+
+Sorted in_solver_order(const Crowd& d, const HierGrid& g) {
+  Sorted s;
+  s.order = g.order();
+  for (const std::uint32_t i : s.order) {
+    s.c.x.push_back(d.x[i]); s.c.y.push_back(d.y[i]); s.c.z.push_back(d.z[i]);
+    s.c.r.push_back(d.r[i]); s.c.hh.push_back(d.hh[i]);
+    s.c.group.push_back(d.group[i]); s.c.mask.push_back(d.mask[i]);
+  }
+  return s;
+}
+
+// The grid's candidate test (hier_grid.cpp, scan_one).
+bool within(const Crowd& c, std::uint32_t i, std::uint32_t j, double margin) {
+  const double dx = c.x[j] - c.x[i], dy = c.y[j] - c.y[i];
+  const double reach = c.r[i] + c.r[j] + margin;
+  const double gap_z = std::fabs(c.z[j] - c.z[i]) - c.hh[i] - c.hh[j];
+  return !(dx * dx + dy * dy >= reach * reach) && !(gap_z >= reach) && (c.group[i] & c.mask[j]) != 0 &&
+         (c.group[j] & c.mask[i]) != 0;
+}
+
+std::set<std::pair<std::uint32_t, std::uint32_t>> brute_force(const Crowd& c, double margin) {
+  std::set<std::pair<std::uint32_t, std::uint32_t>> out;
+  const auto n = static_cast<std::uint32_t>(c.x.size());
+  for (std::uint32_t i = 0; i < n; ++i) {
+    for (std::uint32_t j = i + 1; j < n; ++j) {
+      if (within(c, i, j, margin)) out.insert({i, j});
+    }
+  }
+  return out;
+}
+
+void check(const Crowd& dense, double margin, double cell0) {
+  HierGrid g;
+  g.build(dense.x.data(), dense.y.data(), dense.r.data(), dense.x.size(), margin, cell0);
+  const Sorted s = in_solver_order(dense, g);
+  const GridBodyView v{s.c.x.data(), s.c.y.data(), s.c.z.data(), s.c.r.data(), s.c.hh.data(), s.c.group.data(),
+                       s.c.mask.data()};
+  std::vector<CandidatePair> narrow;
+  ASSERT_EQ(g.find_pairs(v, margin, 4096, narrow), 0u);
+  const double widest = HierGrid::max_extra_margin(cell0, margin);
+  for (const double extra : {0.0, 0.1, 0.4, widest}) {
+    SCOPED_TRACE(extra);
+    std::vector<CandidatePair> wide;
+    ASSERT_EQ(g.find_pairs(v, margin + extra, 4096, wide), 0u);
+    std::set<std::pair<std::uint32_t, std::uint32_t>> found;
+    for (const CandidatePair& p : wide) {
+      ASSERT_TRUE(within(s.c, p.a, p.b, margin + extra));  // every candidate is a hit
+      ASSERT_TRUE(found.insert({std::min(p.a, p.b), std::max(p.a, p.b)}).second) << "listed twice";
+    }
+    EXPECT_EQ(found, brute_force(s.c, margin + extra));
+    // Within the build's margin: the narrow search's list, in its order and orientation.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> kept, expected;
+    for (const CandidatePair& p : wide) {
+      if (within(s.c, p.a, p.b, margin)) kept.push_back({p.a, p.b});
+    }
+    for (const CandidatePair& p : narrow) expected.push_back({p.a, p.b});
+    EXPECT_EQ(kept, expected);
+  }
+}
+
+// A dense crowd of one size: counting-sorted, one level.
+TEST(HierGrid, WiderSearchOneSize) {
+  const Crowd c = random_crowd(2500, 30.0, {0.35}, 1);
+  check(c, 0.05, 0.8);
+}
+
+// Three sizes (foot, mounts, giants): three levels and pairs across them.
+TEST(HierGrid, WiderSearchMixedSizes) {
+  const Crowd c = random_crowd(2500, 40.0, {0.35, 0.35, 0.35, 0.7, 1.4}, 2);
+  check(c, 0.05, 0.8);
+}
+
+// Bodies spread thinly over a wide area: the key range is large next to the body count, so the
+// levels are radix-sorted and neighbours are found through the cell list.
+TEST(HierGrid, WiderSearchSparseLevels) {
+  Crowd c = random_crowd(1500, 600.0, {0.35, 0.7}, 3);
+  // A few clumps so that there are pairs at all.
+  const Crowd clumps = random_crowd(600, 6.0, {0.35, 0.7}, 4);
+  for (std::size_t i = 0; i < clumps.x.size(); ++i) {
+    c.x.push_back(clumps.x[i] + (i % 3 == 0 ? 200.0 : -150.0));
+    c.y.push_back(clumps.y[i] + (i % 2 == 0 ? 100.0 : -220.0));
+    c.z.push_back(clumps.z[i]); c.r.push_back(clumps.r[i]); c.hh.push_back(clumps.hh[i]);
+    c.group.push_back(clumps.group[i]); c.mask.push_back(clumps.mask[i]);
+  }
+  check(c, 0.05, 0.8);
+}
+
+}  // namespace
+}  // namespace throng::detail
