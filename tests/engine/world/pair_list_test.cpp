@@ -207,30 +207,33 @@ TEST(PairList, CheckpointRejectsABrokenList) {
   EXPECT_EQ(b.world.state_hash(), before);
 }
 
-// Two columns passing each other at 9 m/s (0.15 m a tick each): every list is outrun in its first tick, so the world
-// searches without a list for the next kCooldownTicks ticks before it tries again.
-TEST(PairList, TooFastForTheSkinSearchesWithoutAListForAWhile) {
+// Two columns passing each other at 9 m/s (0.15 m a tick each): every list is outrun in its first
+// tick, so the world searches without a list for kCooldownTicks ticks, then twice as long after
+// each further list that did not pay.
+TEST(PairList, TooFastForTheSkinSearchesWithoutAListForLongerAndLonger) {
   WorldSettings s;
   World w(s, test::test_table(), test::weight_policy(params::PushMode::ratio, 100.0));
-  std::vector<ObjectId> ids;
   for (int k = 0; k < 200; ++k) {
     // 0.8 m apart within a column (pairs of the list, not of the margin), columns 2 m apart.
-    ids.push_back(test::add_sphere(w, k % 2 == 0 ? -1.0 : 1.0, 0.8 * (k / 2)));
-    w.set_desired_velocity(ids.back(), Vec3{0.0, k % 2 == 0 ? 9.0 : -9.0, 0.0});
+    const ObjectId id = test::add_sphere(w, k % 2 == 0 ? -1.0 : 1.0, 0.8 * (k / 2));
+    w.set_desired_velocity(id, Vec3{0.0, k % 2 == 0 ? 9.0 : -9.0, 0.0});
   }
   const Impl& impl = WorldProbe::impl(w);
-  int searches = 0;
-  for (int t = 0; t < 40; ++t) {
+  std::vector<std::uint64_t> searches;
+  for (int t = 0; t < 60; ++t) {
     const bool cooling = impl.list.cooldown > 0;
     const StepStats& st = w.step();
     EXPECT_EQ(st.pair_list_reused, 0u) << "tick " << st.tick;
     if (impl.list.valid) {
-      ++searches;
+      searches.push_back(st.tick);
       EXPECT_FALSE(cooling);
     }
   }
-  // A search, then the next tick finds it outrun and the cooldown starts: one in 1 + 8 ticks.
-  EXPECT_EQ(searches, (40 + Impl::PairList::kCooldownTicks) / (1 + Impl::PairList::kCooldownTicks));
+  // Searched at tick 1, outrun at 2 (cooldown 8: ticks 2-9), searched at 10, outrun at 11
+  // (cooldown 16: 11-26), searched at 27, outrun at 28 (cooldown 32: 28-59), searched at 60.
+  const std::uint32_t c = Impl::PairList::kCooldownTicks;
+  EXPECT_EQ(searches, (std::vector<std::uint64_t>{1, 2 + c, 3 + 3 * c, 4 + 7 * c}));
+  EXPECT_EQ(impl.list.backoff, 8 * c);
 }
 
 }  // namespace

@@ -131,6 +131,7 @@ void World::Impl::save_state(ByteWriter& w) const {
   // A world restored from such a checkpoint and not stepped since still holds them as restored.
   w.put(list.kept_ticks);
   w.put(list.cooldown);
+  w.put(list.backoff);
   const bool list_kept = list.valid && solver_order.size() == n && list.x.size() == n;
   const bool list_pending = !list_kept && list.restore_pending && list.restored_x.size() == n;
   w.put(static_cast<std::uint8_t>(list_kept || list_pending ? 1 : 0));
@@ -228,6 +229,13 @@ WorldState decode_world_state(ByteReader& r) {
   st.policy = get_policy(r);
   st.pair_list_kept_ticks = r.get<std::uint32_t>("pair list kept ticks");
   st.pair_list_cooldown = r.get<std::uint32_t>("pair list cooldown");
+  st.pair_list_backoff = r.get<std::uint32_t>("pair list backoff");
+  if (st.pair_list_cooldown > kPairListMaxCooldownTicks ||
+      st.pair_list_backoff < kPairListCooldownTicks ||
+      st.pair_list_backoff > kPairListMaxCooldownTicks) {
+    r.fail("pair list cooldown " + std::to_string(st.pair_list_cooldown) + " / backoff " +
+           std::to_string(st.pair_list_backoff) + " out of range");
+  }
   st.pair_list_kept = r.get_bool("pair list kept");
   if (st.pair_list_kept) {
     for (std::vector<double>* col : {&st.pair_list_x, &st.pair_list_y, &st.pair_list_z}) {
@@ -308,6 +316,7 @@ void World::Impl::apply_state(detail::WorldState&& st) {
   list.restore_pending = st.pair_list_kept;
   list.kept_ticks = st.pair_list_kept_ticks;
   list.cooldown = st.pair_list_cooldown;
+  list.backoff = st.pair_list_backoff;
   list.restored_x = std::move(st.pair_list_x);
   list.restored_y = std::move(st.pair_list_y);
   list.restored_z = std::move(st.pair_list_z);

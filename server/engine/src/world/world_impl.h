@@ -15,6 +15,7 @@
 #include "throng/params/push_policy.h"
 #include "throng/world/world.h"
 #include "world/body_store.h"
+#include "world/world_state.h"
 
 namespace throng::detail {
 struct WorldState;
@@ -103,11 +104,15 @@ struct World::Impl {
 
   // The pair list kept across ticks (world_pair_list.cpp, WorldSettings::pair_list_skin_m).
   struct PairList {
-    // A list kept for fewer ticks than this before motion outran its skin is followed by
-    // kCooldownTicks ticks of searching with the margin alone (the list's search costs more than
-    // one plain search; `mixed`, whose cavalry and giants shove the crowd, kept its lists ~1 tick).
+    // A list kept for fewer ticks than this before motion outran its skin is followed by `backoff`
+    // ticks of searching with the margin alone, kCooldownTicks after a list that paid and twice
+    // as many after each one in a row that did not, up to kMaxCooldownTicks (the list's search
+    // costs more than a plain search; `mixed`, whose cavalry and giants shove the crowd, kept its
+    // lists ~1 tick and was 3% slower with a fixed 8-tick cooldown, 19% at p95).
     static constexpr std::uint32_t kMinKeptTicks = 2;
-    static constexpr std::uint32_t kCooldownTicks = 8;
+    static constexpr std::uint32_t kCooldownTicks = detail::kPairListCooldownTicks;
+    static constexpr std::uint32_t kMaxCooldownTicks = detail::kPairListMaxCooldownTicks;
+    std::uint32_t backoff = kCooldownTicks;
     bool valid = false;  // kept: nothing but motion changed since its search
     std::uint32_t kept_ticks = 0;  // ticks the current (or last) list was kept after its search
     std::uint32_t cooldown = 0;    // ticks still to search without a list

@@ -89,8 +89,14 @@ void World::Impl::find_pairs() {
       return;
     }
     // Motion outran the skin. A list that lasted less than kMinKeptTicks did not pay for its
-    // search (the crowd moves too fast for the skin): search with the margin alone for a while.
-    if (list.kept_ticks < PairList::kMinKeptTicks) list.cooldown = PairList::kCooldownTicks;
+    // search (the crowd moves too fast for the skin): search with the margin alone for a while,
+    // twice as long after each list in a row that did not pay.
+    if (list.kept_ticks < PairList::kMinKeptTicks) {
+      list.cooldown = list.backoff;
+      list.backoff = std::min(2 * list.backoff, PairList::kMaxCooldownTicks);
+    } else {
+      list.backoff = PairList::kCooldownTicks;
+    }
     list.valid = false;
   }
   if (list.cooldown > 0) {

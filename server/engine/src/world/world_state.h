@@ -18,6 +18,10 @@ namespace throng::detail {
 inline constexpr std::uint32_t kWorldStateMagic = 0x53574854;  // "THWS" in the file
 inline constexpr std::uint32_t kWorldStateVersion = 2;  // 2: the kept pair list
 
+// Bounds of the pair list's cooldown (World::Impl::PairList), checked when a checkpoint is read.
+inline constexpr std::uint32_t kPairListCooldownTicks = 8;
+inline constexpr std::uint32_t kPairListMaxCooldownTicks = 256;
+
 struct WorldState {
   std::uint64_t config_hash = 0;
   std::uint64_t tick = 0;
@@ -39,7 +43,7 @@ struct WorldState {
   std::uint64_t policy_version = 0;
   params::PushPolicy policy;
   // A kept pair list (World::Impl::PairList): where it was searched, dense order; empty if none.
-  std::uint32_t pair_list_kept_ticks = 0, pair_list_cooldown = 0;
+  std::uint32_t pair_list_kept_ticks = 0, pair_list_cooldown = 0, pair_list_backoff = 0;
   bool pair_list_kept = false;
   std::vector<double> pair_list_x, pair_list_y, pair_list_z;
 };
