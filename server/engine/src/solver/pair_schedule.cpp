@@ -1,140 +1,14 @@
 #include "solver/pair_schedule.h"
 
+#include "solver/pair_schedule_build.h"
+
 #include <algorithm>
 
 namespace throng::detail {
 
 void build_pair_schedule(const SolverBodies& bodies, const std::vector<SolverPair>& pairs, double conflict_limit,
                          PairSchedule& s) {
-  const std::size_t np = pairs.size();
-  s.next_level.assign(bodies.size(), 0);
-  s.pair_level.resize(np);
-  s.fast_count.clear();
-  s.slow_count.clear();
-  std::uint32_t fast_total = 0;
-  // Level of each pair, with the fast/slow split in the top bit; counts per level.
-  constexpr std::uint32_t kSlow = 0x80000000u;
-  std::uint32_t chunk_base = 0;  // first level of the current chunk
-  // Bands: the solver index range of the bodies each band touches, kept in registers.
-  s.band_level.clear();
-  s.band_body_lo.clear();
-  s.band_body_hi.clear();
-  std::uint32_t body_lo = UINT32_MAX, body_hi = 0;
-  for (std::size_t k = 0; k < np; ++k) {
-    const SolverPair& p = pairs[k];
-    if (k % kScheduleChunkPairs == 0) {
-      if (k > 0) {
-        s.band_body_lo.push_back(body_lo);
-        s.band_body_hi.push_back(body_hi);
-        body_lo = UINT32_MAX;
-        body_hi = 0;
-      }
-      chunk_base = static_cast<std::uint32_t>(s.fast_count.size());
-      s.band_level.push_back(chunk_base);
-    }
-    body_lo = std::min({body_lo, p.a, p.b});
-    body_hi = std::max({body_hi, p.a, p.b});
-    const std::uint32_t lv = std::max({s.next_level[p.a], s.next_level[p.b], chunk_base});
-    s.next_level[p.a] = s.next_level[p.b] = lv + 1;
-    if (lv == s.fast_count.size()) {
-      s.fast_count.push_back(0);
-      s.slow_count.push_back(0);
-    }
-    const bool fast = is_fast_pair(bodies, p);
-    if (fast) {
-      ++s.fast_count[lv];
-      ++fast_total;
-    } else {
-      ++s.slow_count[lv];
-    }
-    s.pair_level[k] = lv | (fast ? 0u : kSlow);
-  }
-  // Counting sort by level (stable: within a level, pairs keep the broadphase order).
-  const std::size_t level_count = s.fast_count.size();
-  s.band_level.push_back(static_cast<std::uint32_t>(level_count));
-  if (np > 0) {
-    s.band_body_lo.push_back(body_lo);
-    s.band_body_hi.push_back(body_hi);
-  }
-  // Which bands share a body with which, as an interval of band indices per band (a superset:
-  // bands whose body ranges overlap). Bands of one crowd level touch c - 1 .. c + 1; the bands of
-  // pairs with a larger body (listed after the finest level's pairs) span wide ranges. Bands x
-  // bands interval tests: ~4,000 at 100,000 bodies (65 bands), a few microseconds.
-  const std::size_t band_count = s.band_count();
-  s.band_wake_lo.resize(band_count);
-  s.band_wake_hi.resize(band_count);
-  for (std::size_t c = 0; c < band_count; ++c) {
-    std::uint32_t lo = static_cast<std::uint32_t>(c), hi = static_cast<std::uint32_t>(c);
-    for (std::size_t d = 0; d < band_count; ++d) {
-      if (s.band_body_lo[d] <= s.band_body_hi[c] && s.band_body_lo[c] <= s.band_body_hi[d]) {
-        lo = std::min(lo, static_cast<std::uint32_t>(d));
-        hi = std::max(hi, static_cast<std::uint32_t>(d));
-      }
-    }
-    s.band_wake_lo[c] = lo;
-    s.band_wake_hi[c] = hi;
-  }
-  s.levels.resize(level_count);
-  // Each level's fast range is padded to a multiple of four with pairs that never touch anything
-  // (on SolverBodies' spare slot, see below), so the four-lane kernel takes every pair (levels hold ~20-35 pairs, and the
-  // up to three left over went the scalar way, at three times the cost).
-  std::uint32_t fast_at = 0, slow_at = 0;
-  for (std::size_t lv = 0; lv < level_count; ++lv) {
-    const std::uint32_t padded = (s.fast_count[lv] + 3u) & ~3u;
-    s.levels[lv] = {fast_at, fast_at + padded, slow_at, slow_at + s.slow_count[lv]};
-    s.fast_count[lv] = fast_at;  // now the next free slot of the level
-    s.slow_count[lv] = slow_at;
-    fast_at = s.levels[lv].fast_end;
-    slow_at = s.levels[lv].slow_end;
-  }
-  // Scatter only the pair index, then fill the fast arrays front to back: one random write per
-  // pair instead of one into each of nine arrays. Padding slots keep kNoPair.
-  const std::uint32_t slots = fast_at;
-  s.src.assign(slots, PairSchedule::kNoPair);
-  s.slow.resize(np - fast_total);
-  for (std::size_t k = 0; k < np; ++k) {
-    const std::uint32_t lv = s.pair_level[k];
-    if (lv & kSlow) s.slow[s.slow_count[lv & ~kSlow]++] = static_cast<std::uint32_t>(k);
-    else s.src[s.fast_count[lv]++] = static_cast<std::uint32_t>(k);
-  }
-  s.a.resize(slots); s.b.resize(slots); s.sx.resize(slots); s.sy.resize(slots);
-  s.target.resize(slots); s.share_now.resize(slots); s.share_exact.resize(slots);
-  s.lambda.resize(slots);
-  s.inv_r_min.resize(slots);
-  const std::uint32_t pad_body = static_cast<std::uint32_t>(bodies.size());  // SolverBodies' spare slot
-  const double* x = bodies.x.data();
-  const double* y = bodies.y.data();
-  const double* r = bodies.r.data();
-  // Shares are in [0, 1], so [0, 1] leaves them exact when the limit is off.
-  s.conflict_lo = conflict_limit > 0.0 ? static_cast<float>(conflict_limit) : 0.0f;
-  s.conflict_hi = conflict_limit > 0.0 ? static_cast<float>(1.0 - conflict_limit) : 1.0f;
-  for (std::uint32_t f = 0; f < slots; ++f) {
-    if (s.src[f] == PairSchedule::kNoPair) {
-      // Separated (1 m apart, target 0) with no push: every lane test skips it, it moves its body
-      // (the spare slot, no real pair's) by exactly zero, and its direction is finite.
-      s.a[f] = s.b[f] = pad_body;
-      s.sx[f] = 1.0f;
-      s.sy[f] = 0.0f;
-      s.target[f] = 0.0f;
-      s.share_now[f] = s.share_exact[f] = 0.0f;
-      s.lambda[f] = 0.0f;
-      s.inv_r_min[f] = 0.0f;
-      continue;
-    }
-    const SolverPair& p = pairs[s.src[f]];
-    s.a[f] = p.a;
-    s.b[f] = p.b;
-    s.sx[f] = static_cast<float>(x[p.b] - x[p.a]);
-    s.sy[f] = static_cast<float>(y[p.b] - y[p.a]);
-    s.target[f] = static_cast<float>(p.target);
-    // The same share the general projection would pick (contact_solver.cpp).
-    const float share = static_cast<float>(p.share_a);
-    s.share_now[f] = p.resolved_once != 0 ? std::clamp(share, s.conflict_lo, s.conflict_hi) : share;
-    s.share_exact[f] = share;
-    const double r_min = std::min(r[p.a], r[p.b]);
-    s.lambda[f] = static_cast<float>(std::min(p.lambda, kWarmStartCapOverRadius * r_min));
-    s.inv_r_min[f] = static_cast<float>(1.0 / r_min);
-  }
+  build_pair_schedule_from(bodies, SolverPairSource{pairs}, conflict_limit, s);
 }
 
 std::uint32_t PairSchedule::choose_bands(float calm) {

@@ -101,6 +101,8 @@ struct World::Impl {
   // Solver index -> dense index: the broadphase order of the last search (identity once
   // reorder_dense has put the dense arrays into that order).
   std::vector<std::uint32_t> solver_order;
+  // This tick's pairs are the kept list's taken entries (list.of_pair), not yet in `pairs`.
+  bool pairs_in_list = false;
 
   // The pair list kept across ticks (world_pair_list.cpp, WorldSettings::pair_list_skin_m).
   struct PairList {
@@ -130,6 +132,8 @@ struct World::Impl {
     bool restore_pending = false;
     std::vector<double> restored_x, restored_y, restored_z;
     bool fresh = false;  // searched this tick: the pushes are still to be looked up in the cache
+    bool all_fast = false;  // every entry is between grounded bodies (no scenery: no planes either)
+    std::size_t live = 0;   // entries taken this tick: of_pair[0, live)
     std::vector<detail::CandidatePair> found;  // search scratch
   } list;
 
@@ -168,6 +172,8 @@ struct World::Impl {
   double pair_list_skin();
   template <bool kFresh>
   void take_list_pairs();
+  void materialize_list_pairs();
+  void schedule_list_pairs(double conflict);
   void pairs_from_list();
   bool relieve_piles();
   void build_scenery_planes();

@@ -32,6 +32,7 @@
 #include <cstring>
 
 #include "solver/contact_solver.h"
+#include "solver/pair_schedule_build.h"
 #include "world/world_impl.h"
 
 namespace throng {
@@ -164,6 +165,7 @@ bool World::Impl::search_pair_list(const double* x, const double* y, const doubl
     l.share[e] = params::share_a_fast(bodies.resistance[solver_order[a]], bodies.resistance[solver_order[b]]);
   }
   l.shares_stale = false;
+  l.all_fast = std::all_of(l.target.begin(), l.target.end(), [](double t) { return t >= 0.0; });
   l.fresh = true;
   l.x = sb.x;
   l.y = sb.y;
@@ -172,14 +174,14 @@ bool World::Impl::search_pair_list(const double* x, const double* y, const doubl
 }
 
 // This tick's pairs: the list's entries the margin's test accepts at the bodies' positions now,
-// with the push each kept (or, right after a search, the push the cache holds).
+// with the push each kept (or, right after a search, the push the cache holds). They stay in the
+// list (of_pair names them) unless solve() needs them as SolverPairs (materialize_list_pairs).
 template <bool kFresh>
 void World::Impl::take_list_pairs() {
   PairList& l = list;
   const std::size_t m = l.a.size();
   const double* x = sb.x.data();
   const double* y = sb.y.data();
-  detail::SolverPair* out = pairs.data();
   std::uint32_t* of_pair = l.of_pair.data();
   std::size_t k = 0;
   std::size_t warm = 0;
@@ -202,21 +204,13 @@ void World::Impl::take_list_pairs() {
     bits &= 0u - static_cast<std::uint32_t>(live);
     std::memcpy(&lambda, &bits, 4);
     l.lambda[e] = lambda;
+    warm += lambda > 0.0f ? 1 : 0;
     // Written whether taken or not (the next write goes to the same slot unless it was): no branch
     // on a test that fails for a third of the entries in no order.
-    detail::SolverPair& p = out[k];
-    p.a = a;
-    p.b = b;
-    p.share_a = l.share[e];
-    p.target = l.target[e];
-    p.lambda = static_cast<double>(lambda);
-    p.depth_start = 0.0;
-    p.resolved_once = 0;
-    warm += lambda > 0.0f ? 1 : 0;
     of_pair[k] = static_cast<std::uint32_t>(e);
     k += live ? 1 : 0;
   }
-  pairs.resize(k);
+  l.live = k;
   warm_pairs = warm;
   stats.candidate_pairs = static_cast<std::uint32_t>(k);
 }
@@ -237,12 +231,53 @@ void World::Impl::pairs_from_list() {
     }
     l.shares_stale = false;
   }
-  pairs.resize(m);
   l.of_pair.resize(m);
   if (l.fresh) take_list_pairs<true>();
   else take_list_pairs<false>();
   l.fresh = false;
+  pairs_in_list = true;
+  pairs.clear();
   stats.capped_bodies = 0;
+}
+
+// This tick's pairs from the list as SolverPairs (an unscheduled solve, or pairs with an airborne
+// body, which the general code projects).
+void World::Impl::materialize_list_pairs() {
+  const PairList& l = list;
+  pairs.resize(l.live);
+  for (std::size_t k = 0; k < l.live; ++k) {
+    const std::uint32_t e = l.of_pair[k];
+    detail::SolverPair& p = pairs[k];
+    p.a = l.a[e];
+    p.b = l.b[e];
+    p.share_a = l.share[e];
+    p.target = l.target[e];
+    p.lambda = static_cast<double>(l.lambda[e]);
+    p.depth_start = 0.0;
+    p.resolved_once = 0;
+  }
+  pairs_in_list = false;
+}
+
+// The pairs a kept list takes this tick, scheduled straight from the list (pair_schedule_build.h):
+// the same schedule as from the same pairs as SolverPairs.
+void World::Impl::schedule_list_pairs(double conflict) {
+  const PairList& l = list;
+  struct Source {
+    const PairList& l;
+    std::size_t size() const { return l.live; }
+    std::uint32_t a(std::size_t k) const { return l.a[l.of_pair[k]]; }
+    std::uint32_t b(std::size_t k) const { return l.b[l.of_pair[k]]; }
+    bool fast(const detail::SolverBodies& bodies, std::size_t k) const {
+      const std::uint32_t e = l.of_pair[k];
+      return l.target[e] >= 0.0 && (bodies.plane_count[l.a[e]] | bodies.plane_count[l.b[e]]) == 0;
+    }
+    detail::PairFields fields(std::size_t k) const {
+      const std::uint32_t e = l.of_pair[k];
+      return {l.a[e], l.b[e], l.target[e], l.share[e], static_cast<double>(l.lambda[e]), false};
+    }
+  };
+  detail::build_pair_schedule_from(sb, Source{l}, conflict, pair_schedule);
 }
 
 }  // namespace throng

@@ -176,6 +176,7 @@ float World::Impl::warm_push(std::uint32_t a, std::uint32_t b) const {
 
 void World::Impl::setup_pairs() {
   const std::vector<std::uint32_t>& order = solver_order;
+  pairs_in_list = false;
   pairs.resize(candidates.size());
   warm_pairs = 0;
   for (std::size_t k = 0; k < candidates.size(); ++k) {
@@ -204,11 +205,14 @@ void World::Impl::setup_pairs() {
 void World::Impl::solve() {
   const std::size_t n = sb.size();
   const double conflict_limit = policy.mode() == params::PushMode::ratio ? settings.conflict_share_limit : 0.0;
-  const bool scheduled = detail::wants_schedule(pairs.size(), warm_pairs);
+  const bool scheduled = detail::wants_schedule(pairs_in_list ? list.live : pairs.size(), warm_pairs);
+  // A kept list's pairs are scheduled straight from the list; the general code needs SolverPairs.
+  if (pairs_in_list && !(scheduled && list.all_fast)) materialize_list_pairs();
   sb.displaced = scheduled;
   if (scheduled) {
     std::fill(sb.u.begin(), sb.u.end(), 0.0f);
-    detail::build_pair_schedule(sb, pairs, conflict_limit, pair_schedule);
+    if (pairs_in_list) schedule_list_pairs(conflict_limit);
+    else detail::build_pair_schedule(sb, pairs, conflict_limit, pair_schedule);
   }
   if (settings.record_push_events) detail::measure_start_depths(sb, pairs, planes, scheduled ? &pair_schedule : nullptr);
   if (settings.warm_start) {
