@@ -38,9 +38,10 @@
 namespace throng {
 namespace {
 
-// Whether no two bodies have together moved more than `skin` from (x0, y0, z0) (solver order) to
-// (x, y, z) (dense order through `index`, or solver order when index is null): the sum of the two
-// largest displacements, which does not depend on the order of the bodies.
+// Whether no two bodies have together moved more than `skin` from (x0, y0, z0)[s] to
+// (x, y, z)[index[s]] (or [s] when index is null): the sum of the two largest displacements, which
+// does not depend on the order of the bodies (a restored world checks in dense order, a running
+// one in solver order).
 bool within_skin(std::size_t n, const double* x, const double* y, const double* z, const std::uint32_t* index,
                  const double* x0, const double* y0, const double* z0, double skin) {
   double first = 0.0, second = 0.0;
@@ -145,8 +146,8 @@ bool World::Impl::search_pair_list(const double* x, const double* y, const doubl
   }
   // Per entry what stays while the list is kept: the separation target, the margin's reach (the
   // grid's candidate test, hier_grid.cpp scan_one: a grounded pair's height gap cannot change), and
-  // the share. The pushes are looked up in the cache by this tick's pairs_from_list, for the
-  // entries within the margin only (the others start at zero anyway).
+  // the share. The pushes are looked up in the cache by this tick's pairs_from_list (and kept only
+  // for the entries within the margin).
   const std::size_t m = l.found.size();
   l.a.resize(m);
   l.b.resize(m);
