@@ -1,6 +1,7 @@
 #include "broadphase/hier_grid.h"
 
 #include <algorithm>
+#include <stdexcept>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -329,8 +330,11 @@ std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::ui
   // Each body examines at most max_candidates bodies: its own cell's later bodies and the right
   // cell first, then the (up to three) cells of the row above. A search margin wider than the
   // build's (a pair list's skin) reaches two cells: the cell's later bodies and the next two cells,
-  // then five cells in each of the two rows above (see search_reach_cells).
+  // then five cells in each of the two rows above (max_extra_margin says how far that reaches).
   const double extra = std::max(0.0, margin - build_margin_m_);
+  if (level_count_ > 0 && extra > max_extra_margin(levels_[0].cell_m, build_margin_m_)) {
+    throw std::invalid_argument("HierGrid::find_pairs: search margin beyond two cells of the grid");
+  }
   const int reach_cells = extra > 0.0 ? 2 : 1;
   const auto scan_all = [&](auto mode) {
     constexpr TestMode kMode = decltype(mode)::value;

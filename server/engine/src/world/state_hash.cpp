@@ -1,6 +1,8 @@
 // The per-tick 64-bit state hash: XXH3 over every value that influences future ticks, in dense
 // order. Two runs with the same inputs on the same binary must agree on it every tick; the match
 // log stores it so a replay can prove it re-simulated the same match.
+#include <vector>
+
 #include <xxhash.h>
 
 #include "world/world_impl.h"
@@ -35,6 +37,26 @@ std::uint64_t World::state_hash() const {
       const detail::WarmEntry& e = b.warm[i * detail::kWarmSlots + k];
       XXH3_64bits_update(st, &e.partner, sizeof(e.partner));
       XXH3_64bits_update(st, &e.lambda, sizeof(e.lambda));
+    }
+  }
+  // The kept pair list steers which pairs the next ticks solve and in what order: whether one is
+  // kept (or, in a world restored and not yet stepped, to be searched again), where it was searched
+  // (dense order, as a checkpoint holds it) and the cooldown counters.
+  const std::size_t n = b.size();
+  const bool kept = w.list.valid && w.solver_order.size() == n && w.list.x.size() == n;
+  const bool pending = !kept && w.list.restore_pending && w.list.restored_x.size() == n;
+  const std::uint8_t list_flag = kept || pending ? 1 : 0;
+  XXH3_64bits_update(st, &list_flag, 1);
+  XXH3_64bits_update(st, &w.list.kept_ticks, sizeof(w.list.kept_ticks));
+  XXH3_64bits_update(st, &w.list.cooldown, sizeof(w.list.cooldown));
+  XXH3_64bits_update(st, &w.list.backoff, sizeof(w.list.backoff));
+  if (pending) {
+    feed(st, w.list.restored_x); feed(st, w.list.restored_y); feed(st, w.list.restored_z);
+  } else if (kept) {
+    std::vector<double> dense(n);
+    for (const std::vector<double>* col : {&w.list.x, &w.list.y, &w.list.z}) {
+      for (std::size_t s = 0; s < n; ++s) dense[w.solver_order[s]] = (*col)[s];
+      feed(st, dense);
     }
   }
   const std::uint64_t h = XXH3_64bits_digest(st);

@@ -102,7 +102,7 @@ ObjectId World::create_body(const BodyDef& def) {
   p.fixed = false;
   w.bodies.push_back_default();
   w.cell0_dirty = true;
-  w.list.valid = false;
+  w.list.drop();
   w.bodies.x[dense] = def.position.x;
   w.bodies.y[dense] = def.position.y;
   w.bodies.z[dense] = def.position.z;
@@ -127,7 +127,7 @@ void World::destroy_body(ObjectId id) {
   }
   w.bodies.swap_remove(dense);
   w.cell0_dirty = true;
-  w.list.valid = false;
+  w.list.drop();
   w.body_params.pop_back();
   Impl::Slot& s = w.slots[id.index()];
   s.kind = Impl::SlotKind::kFree;
@@ -160,12 +160,14 @@ void World::set_position(ObjectId id, Vec3 p) {
   impl_->bodies.y[i] = p.y;
   impl_->bodies.z[i] = p.z;
   impl_->bodies.warm_count[i] = 0;  // a teleport invalidates last tick's pushes
-  impl_->list.valid = false;          // and the kept pair list
+  impl_->list.drop();                 // and the kept pair list
 }
 
 void World::set_grounded(ObjectId id, bool grounded) {
-  impl_->bodies.grounded[impl_->body_index(id, "set_grounded")] = grounded ? 1 : 0;
-  impl_->list.valid = false;  // the kept pair list's separation targets assume the heights stay
+  std::uint8_t& flag = impl_->bodies.grounded[impl_->body_index(id, "set_grounded")];
+  // The kept pair list's separation targets assume every body stays as grounded as it was.
+  if (flag != (grounded ? 1 : 0)) impl_->list.drop();
+  flag = grounded ? 1 : 0;
 }
 
 void World::set_param(ObjectId id, params::Param param, double value) {

@@ -136,6 +136,12 @@ struct World::Impl {
     bool all_fast = false;  // every entry is between grounded bodies (no scenery: no planes either)
     std::size_t live = 0;   // entries taken this tick: of_pair[0, live)
     std::vector<detail::CandidatePair> found;  // search scratch
+    // Anything but motion changed a pair: no list is kept, and a restored world does not search
+    // the saved one again either (the saved world dropped it too).
+    void drop() {
+      valid = false;
+      restore_pending = false;
+    }
   } list;
 
   // Spatial reordering of the dense arrays (world_step.cpp).

@@ -49,12 +49,14 @@ bool within_skin(std::size_t n, const double* x, const double* y, const double* 
     const std::size_t i = index != nullptr ? index[s] : s;
     const double dx = x[i] - x0[s], dy = y[i] - y0[s], dz = z[i] - z0[s];
     const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
-    if (d > second) {
+    if (!(d <= second)) {  // a NaN displacement (never expected) then fails the test below
       second = std::min(d, first);
       first = std::max(d, first);
     }
   }
-  return first + second <= skin;
+  // 1 um short of the skin: the argument is exact in real numbers; this keeps the rounding of the
+  // displacements and of the search's reach (positions 10 km out round to ~2e-12 m) on the safe side.
+  return first + second <= skin - 1e-6;
 }
 
 }  // namespace
@@ -65,8 +67,7 @@ bool World::Impl::pair_list_eligible() const {
 
 void World::Impl::find_pairs() {
   if (!pair_list_eligible()) {
-    list.valid = false;
-    list.restore_pending = false;
+    list.drop();
     build_pairs();
     return;
   }
@@ -111,7 +112,10 @@ void World::Impl::find_pairs() {
   if (list.valid) {
     pairs_from_list();
   } else {
-    // A capped search or a relieved pile: this tick searches with the margin as without a list.
+    // A capped search or a relieved pile: this tick searches with the margin as without a list,
+    // and the next ones too for a while (a capped crowd would cap the next search as well).
+    list.cooldown = list.backoff;
+    list.backoff = std::min(2 * list.backoff, PairList::kMaxCooldownTicks);
     search_candidates();
     setup_pairs();
   }

@@ -114,7 +114,7 @@ void World::Impl::refresh_coefficients() {
     bodies.rule_lhs[i] = c.rule_mask_lhs;
     bodies.rule_rhs[i] = c.rule_mask_rhs;
     // A new collision filter changes which pairs exist: the kept pair list is dropped.
-    if (bodies.group[i] != p.collision_group || bodies.mask[i] != p.collision_mask) list.valid = false;
+    if (bodies.group[i] != p.collision_group || bodies.mask[i] != p.collision_mask) list.drop();
     bodies.group[i] = p.collision_group;
     bodies.mask[i] = p.collision_mask;
     bodies.coeff_dirty[i] = 0;

@@ -91,6 +91,12 @@ std::vector<BodyDifference> diff_world_states(std::span<const std::uint8_t> a_by
   for (std::size_t j = 0; j < b.bodies.size(); ++j) {
     if (dense_of(a, b.bodies.id[j]) < 0) out.push_back({b.bodies.id[j].value, "only in the second checkpoint"});
   }
+  // The pair list's counters belong to no body: reported under object id 0 (no object has it).
+  std::string list_what;
+  add(list_what, "pair_list.kept_ticks", a.pair_list_kept_ticks, b.pair_list_kept_ticks);
+  add(list_what, "pair_list.cooldown", a.pair_list_cooldown, b.pair_list_cooldown);
+  add(list_what, "pair_list.backoff", a.pair_list_backoff, b.pair_list_backoff);
+  if (!list_what.empty()) out.push_back({0, "world: " + list_what});
   std::sort(out.begin(), out.end(), [](const BodyDifference& x, const BodyDifference& y) { return x.object_id < y.object_id; });
   if (out.size() > max) out.resize(max);
   return out;

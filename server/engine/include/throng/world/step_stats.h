@@ -12,9 +12,10 @@ struct StepStats {
   double broadphase_us = 0.0;
   double solve_us = 0.0;
   double total_us = 0.0;
-  std::uint32_t candidate_pairs = 0;   // pairs within r_a + r_b + margin (+ skin, see below)
-  // 1 when this tick kept the pair list, schedule and pushes of an earlier tick instead of searching
-  // (WorldSettings::pair_list_skin_m), else 0.
+  std::uint32_t candidate_pairs = 0;   // pairs within r_a + r_b + margin
+  // 1 when this tick took its pairs from a pair list kept from an earlier tick instead of searching
+  // (WorldSettings::pair_list_skin_m), else 0. The first tick after a restore that carried a kept
+  // list reads 1 as the saved world would, though it searched the list again.
   std::uint32_t pair_list_reused = 0;
   std::uint32_t scenery_planes = 0;    // body-vs-fixed separating planes built this tick
   std::uint32_t iterations_used = 0;

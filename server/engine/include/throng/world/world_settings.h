@@ -13,7 +13,8 @@ struct WorldSettings {
   // contacts created by pushes during the iterations are still seen. [0, 10] m
   double contact_margin_m = 0.05;
   // Pair list skin (a Verlet list): in a world without fixed scenery whose shares need only the two
-  // resistances, the candidate pairs are searched within r_a + r_b + margin + skin and the list is
+  // resistances, with warm start on, the candidate pairs are searched within r_a + r_b + margin +
+  // skin (the skin capped at the finest grid cell plus the margin) and the list is
   // kept across ticks until two bodies together have moved more than the skin since the search.
   // Each tick takes from it the pairs a search with the margin would find (every one of them is in
   // it, see world_pair_list.cpp), with last tick's pushes, in the order of that search. 0 = search
