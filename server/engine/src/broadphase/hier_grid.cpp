@@ -1,10 +1,10 @@
 #include "broadphase/hier_grid.h"
 
 #include <algorithm>
-#include <stdexcept>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <stdexcept>
 #include <type_traits>
 
 #include <emmintrin.h>

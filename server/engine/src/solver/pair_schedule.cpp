@@ -1,8 +1,8 @@
 #include "solver/pair_schedule.h"
 
-#include "solver/pair_schedule_build.h"
-
 #include <algorithm>
+
+#include "solver/pair_schedule_build.h"
 
 namespace throng::detail {
 

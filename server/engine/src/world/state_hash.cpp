@@ -43,16 +43,15 @@ std::uint64_t World::state_hash() const {
   // kept (or, in a world restored and not yet stepped, to be searched again), where it was searched
   // (dense order, as a checkpoint holds it) and the cooldown counters.
   const std::size_t n = b.size();
-  const bool kept = w.list.valid && w.solver_order.size() == n && w.list.x.size() == n;
-  const bool pending = !kept && w.list.restore_pending && w.list.restored_x.size() == n;
-  const std::uint8_t list_flag = kept || pending ? 1 : 0;
+  const World::Impl::ListRecord record = w.list_record();
+  const std::uint8_t list_flag = record != World::Impl::ListRecord::kNone ? 1 : 0;
   XXH3_64bits_update(st, &list_flag, 1);
   XXH3_64bits_update(st, &w.list.kept_ticks, sizeof(w.list.kept_ticks));
   XXH3_64bits_update(st, &w.list.cooldown, sizeof(w.list.cooldown));
   XXH3_64bits_update(st, &w.list.backoff, sizeof(w.list.backoff));
-  if (pending) {
+  if (record == World::Impl::ListRecord::kPending) {
     feed(st, w.list.restored_x); feed(st, w.list.restored_y); feed(st, w.list.restored_z);
-  } else if (kept) {
+  } else if (record == World::Impl::ListRecord::kKept) {
     std::vector<double> dense(n);
     for (const std::vector<double>* col : {&w.list.x, &w.list.y, &w.list.z}) {
       for (std::size_t s = 0; s < n; ++s) dense[w.solver_order[s]] = (*col)[s];

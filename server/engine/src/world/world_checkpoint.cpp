@@ -132,16 +132,15 @@ void World::Impl::save_state(ByteWriter& w) const {
   w.put(list.kept_ticks);
   w.put(list.cooldown);
   w.put(list.backoff);
-  const bool list_kept = list.valid && solver_order.size() == n && list.x.size() == n;
-  const bool list_pending = !list_kept && list.restore_pending && list.restored_x.size() == n;
-  w.put(static_cast<std::uint8_t>(list_kept || list_pending ? 1 : 0));
-  if (list_kept) {
+  const ListRecord record = list_record();
+  w.put(static_cast<std::uint8_t>(record != ListRecord::kNone ? 1 : 0));
+  if (record == ListRecord::kKept) {
     for (const std::vector<double>* col : {&list.x, &list.y, &list.z}) {
       w.put(static_cast<std::uint32_t>(n));
       p = w.grow(n * 8);
       for (std::size_t s = 0; s < n; ++s) std::memcpy(p + std::size_t{solver_order[s]} * 8, &(*col)[s], 8);
     }
-  } else if (list_pending) {
+  } else if (record == ListRecord::kPending) {
     w.put_array(list.restored_x);
     w.put_array(list.restored_y);
     w.put_array(list.restored_z);

@@ -1,6 +1,7 @@
 #pragma once
 // World's private state. Split from world.h so the public header stays free of FCL, the policy's
 // internals and the solver's scratch arrays.
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -142,7 +143,17 @@ struct World::Impl {
       valid = false;
       restore_pending = false;
     }
+    // A list that did not pay: the next `backoff` ticks search without one, and the next such
+    // cooldown is twice as long.
+    void back_off() {
+      cooldown = backoff;
+      backoff = std::min(2 * backoff, kMaxCooldownTicks);
+    }
   } list;
+  // What a checkpoint and the state hash hold of the pair list: nothing, the kept list's search
+  // positions, or the restored ones a world not stepped since its restore will search again.
+  enum class ListRecord { kNone, kKept, kPending };
+  ListRecord list_record() const;
 
   // Spatial reordering of the dense arrays (world_step.cpp).
   static constexpr std::uint64_t kReorderPeriodTicks = 16;
@@ -180,6 +191,7 @@ struct World::Impl {
   template <bool kFresh>
   void take_list_pairs();
   void materialize_list_pairs();
+  void refresh_list_shares();
   void schedule_list_pairs(double conflict);
   void pairs_from_list();
   bool relieve_piles();

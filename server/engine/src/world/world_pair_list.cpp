@@ -94,12 +94,8 @@ void World::Impl::find_pairs() {
     // Motion outran the skin. A list that lasted less than kMinKeptTicks did not pay for its
     // search (the crowd moves too fast for the skin): search with the margin alone for a while,
     // twice as long after each list in a row that did not pay.
-    if (list.kept_ticks < PairList::kMinKeptTicks) {
-      list.cooldown = list.backoff;
-      list.backoff = std::min(2 * list.backoff, PairList::kMaxCooldownTicks);
-    } else {
-      list.backoff = PairList::kCooldownTicks;
-    }
+    if (list.kept_ticks < PairList::kMinKeptTicks) list.back_off();
+    else list.backoff = PairList::kCooldownTicks;
     list.valid = false;
   }
   if (list.cooldown > 0) {
@@ -114,8 +110,7 @@ void World::Impl::find_pairs() {
   } else {
     // A capped search or a relieved pile: this tick searches with the margin as without a list,
     // and the next ones too for a while (a capped crowd would cap the next search as well).
-    list.cooldown = list.backoff;
-    list.backoff = std::min(2 * list.backoff, PairList::kMaxCooldownTicks);
+    list.back_off();
     search_candidates();
     setup_pairs();
   }
@@ -167,15 +162,30 @@ bool World::Impl::search_pair_list(const double* x, const double* y, const doubl
     const double reach = sb.r[a] + sb.r[b] + margin;
     const double gap_z = std::fabs(sb.z[b] - sb.z[a]) - sb.hh[a] - sb.hh[b];
     l.reach[e] = (sb.grounded[a] & sb.grounded[b]) && gap_z >= reach ? 0.0 : reach;
-    l.share[e] = params::share_a_fast(bodies.resistance[solver_order[a]], bodies.resistance[solver_order[b]]);
   }
-  l.shares_stale = false;
+  refresh_list_shares();
   l.all_fast = std::all_of(l.target.begin(), l.target.end(), [](double t) { return t >= 0.0; });
   l.fresh = true;
   l.x = sb.x;
   l.y = sb.y;
   l.z = sb.z;
   return true;
+}
+
+// The entries' shares from the resistances (the list is kept only where nothing else enters one).
+void World::Impl::refresh_list_shares() {
+  PairList& l = list;
+  for (std::size_t e = 0; e < l.a.size(); ++e) {
+    l.share[e] = params::share_a_fast(bodies.resistance[solver_order[l.a[e]]], bodies.resistance[solver_order[l.b[e]]]);
+  }
+  l.shares_stale = false;
+}
+
+World::Impl::ListRecord World::Impl::list_record() const {
+  const std::size_t n = bodies.size();
+  if (list.valid && solver_order.size() == n && list.x.size() == n) return ListRecord::kKept;
+  if (list.restore_pending && list.restored_x.size() == n) return ListRecord::kPending;
+  return ListRecord::kNone;
 }
 
 // This tick's pairs: the list's entries the margin's test accepts at the bodies' positions now,
@@ -230,12 +240,7 @@ void World::Impl::pairs_from_list() {
   }
   PairList& l = list;
   const std::size_t m = l.a.size();
-  if (l.shares_stale) {
-    for (std::size_t e = 0; e < m; ++e) {
-      l.share[e] = params::share_a_fast(bodies.resistance[solver_order[l.a[e]]], bodies.resistance[solver_order[l.b[e]]]);
-    }
-    l.shares_stale = false;
-  }
+  if (l.shares_stale) refresh_list_shares();
   l.of_pair.resize(m);
   if (l.fresh) take_list_pairs<true>();
   else take_list_pairs<false>();
