@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "solver/contact_solver.h"
+#include "world/body_passes.h"
 #include "world/world_impl.h"
 
 namespace throng {
@@ -59,20 +60,21 @@ void World::Impl::move_bodies() {
   start_x.resize(n); start_y.resize(n); start_z.resize(n);
   moved_x.resize(n); moved_y.resize(n);
   const double dt = settings.dt_s;
-  const bool has_scenery = scenery.size() > 0;
   const double carry = settings.blocked_motion_carry;
+  if (scenery.size() == 0) {
+    // Nothing can stop a move: the vectorised kernel (body_passes.cpp).
+    detail::move_free_bodies({bodies.x.data(), bodies.y.data(), bodies.z.data(), bodies.vx.data(), bodies.vy.data(),
+                              bodies.vz.data(), bodies.px.data(), bodies.py.data(), bodies.grounded.data(),
+                              start_x.data(), start_y.data(), start_z.data(), moved_x.data(), moved_y.data()},
+                             n, dt, carry);
+    return;
+  }
   for (std::size_t i = 0; i < n; ++i) {
     const double x0 = bodies.x[i], y0 = bodies.y[i], z0 = bodies.z[i];
     start_x[i] = x0; start_y[i] = y0; start_z[i] = z0;
     double dx = bodies.vx[i] * dt, dy = bodies.vy[i] * dt;
     if (carry > 0.0) {
-      // Shorten the step by the part of it that was pushed back last tick (see WorldSettings):
-      // keep = 1 - carry * clamp(blocked, 0, step) / step with blocked = -(push . step) / step,
-      // written over step^2 so that it needs no square root and no branch (whether a body was
-      // pushed back is data-dependent; the branches mispredicted and the sqrt was on the path).
-      const double step2 = dx * dx + dy * dy;
-      const double blocked_times_step = std::clamp(-(bodies.px[i] * dx + bodies.py[i] * dy), 0.0, step2);
-      const double keep = 1.0 - carry * blocked_times_step / (step2 > 0.0 ? step2 : 1.0);
+      const double keep = detail::carried_step_share(dx, dy, bodies.px[i], bodies.py[i], carry);
       dx *= keep;
       dy *= keep;
     }
@@ -81,7 +83,7 @@ void World::Impl::move_bodies() {
     // A move longer than half a radius could step over a thin wall in one tick (a charging horse):
     // sweep it against the scenery and stop at the first contact.
     const double half_r = 0.5 * bodies.r[i];
-    if (has_scenery && dx * dx + dy * dy + dz * dz > half_r * half_r) {
+    if (dx * dx + dy * dy + dz * dz > half_r * half_r) {
       const geom::Capsule cap{{x0, y0, z0 - bodies.hh[i]}, {x0, y0, z0 + bodies.hh[i]}, bodies.r[i]};
       frac = scenery.first_hit_fraction(cap, {dx, dy, dz});
       if (frac < 1.0) ++stats.tunnel_clamps;
@@ -316,14 +318,10 @@ void World::Impl::reorder_dense() {
 }
 
 void World::Impl::finish_tick() {
-  const double inv_dt = 1.0 / settings.dt_s;
-  for (std::size_t i = 0; i < bodies.size(); ++i) {
-    bodies.px[i] = bodies.x[i] - moved_x[i];
-    bodies.py[i] = bodies.y[i] - moved_y[i];
-    bodies.ax[i] = (bodies.x[i] - start_x[i]) * inv_dt;
-    bodies.ay[i] = (bodies.y[i] - start_y[i]) * inv_dt;
-    bodies.az[i] = (bodies.z[i] - start_z[i]) * inv_dt;
-  }
+  detail::finish_bodies({bodies.x.data(), bodies.y.data(), bodies.z.data(), moved_x.data(), moved_y.data(),
+                         start_x.data(), start_y.data(), start_z.data(), bodies.px.data(), bodies.py.data(),
+                         bodies.ax.data(), bodies.ay.data(), bodies.az.data()},
+                        bodies.size(), 1.0 / settings.dt_s);
   ++tick;
 }
 
