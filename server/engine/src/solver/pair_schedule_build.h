@@ -3,7 +3,8 @@
 // list takes this tick (world_pair_list.cpp), which are read from the list itself instead of being
 // copied into SolverPairs first (the copy and the schedule's gather of it cost ~0.2 ms a tick at
 // 20,000 bodies). A Source provides size(), a(k), b(k), fast(bodies, k) (is_fast_pair) and
-// fields(k); the schedule is the same whatever holds the pairs.
+// slot(k, bodies, lo, hi) (what a fast pair's slot holds, from slot_fields or precomputed with the
+// same arithmetic); the schedule is the same whatever holds the pairs.
 #include <algorithm>
 #include <cstdint>
 
@@ -11,12 +12,29 @@
 
 namespace throng::detail {
 
-// What the schedule copies of pair k.
-struct PairFields {
+// What the schedule stores of a fast pair, in the kernel's single precision.
+struct SlotFields {
   std::uint32_t a, b;
-  double target, share_a, lambda;
-  bool resolved_once;
+  float target, share_now, share_exact, lambda, inv_r_min;
 };
+
+// The warm-start push a pair starts its solve with: cut to the cap (see apply_warm_start in
+// contact_solver.cpp). `cap` is kWarmStartCapOverRadius * the smaller radius.
+inline float capped_warm_push(double lambda, double cap) { return static_cast<float>(std::min(lambda, cap)); }
+
+// A fast pair's slot from its double fields: the same share the general projection would pick
+// (contact_solver.cpp), the capped warm push and the reciprocal of the smaller radius.
+inline SlotFields slot_fields(std::uint32_t a, std::uint32_t b, double target, double share_a, double lambda,
+                              bool resolved_once, double r_min, float conflict_lo, float conflict_hi) {
+  const float share = static_cast<float>(share_a);
+  return {a,
+          b,
+          static_cast<float>(target),
+          resolved_once ? std::clamp(share, conflict_lo, conflict_hi) : share,
+          share,
+          capped_warm_push(lambda, kWarmStartCapOverRadius * r_min),
+          static_cast<float>(1.0 / r_min)};
+}
 
 // The world's own pair list.
 struct SolverPairSource {
@@ -25,9 +43,10 @@ struct SolverPairSource {
   std::uint32_t a(std::size_t k) const { return pairs[k].a; }
   std::uint32_t b(std::size_t k) const { return pairs[k].b; }
   bool fast(const SolverBodies& bodies, std::size_t k) const { return is_fast_pair(bodies, pairs[k]); }
-  PairFields fields(std::size_t k) const {
+  SlotFields slot(std::size_t k, const SolverBodies& bodies, float conflict_lo, float conflict_hi) const {
     const SolverPair& p = pairs[k];
-    return {p.a, p.b, p.target, p.share_a, p.lambda, p.resolved_once != 0};
+    return slot_fields(p.a, p.b, p.target, p.share_a, p.lambda, p.resolved_once != 0,
+                       std::min(bodies.r[p.a], bodies.r[p.b]), conflict_lo, conflict_hi);
   }
 };
 
@@ -131,7 +150,6 @@ void build_pair_schedule_from(const SolverBodies& bodies, const Source& pairs, d
   const std::uint32_t pad_body = static_cast<std::uint32_t>(bodies.size());  // SolverBodies' spare slot
   const double* x = bodies.x.data();
   const double* y = bodies.y.data();
-  const double* r = bodies.r.data();
   // Shares are in [0, 1], so [0, 1] leaves them exact when the limit is off.
   s.conflict_lo = conflict_limit > 0.0 ? static_cast<float>(conflict_limit) : 0.0f;
   s.conflict_hi = conflict_limit > 0.0 ? static_cast<float>(1.0 - conflict_limit) : 1.0f;
@@ -148,19 +166,16 @@ void build_pair_schedule_from(const SolverBodies& bodies, const Source& pairs, d
       s.inv_r_min[f] = 0.0f;
       continue;
     }
-    const PairFields p = pairs.fields(s.src[f]);
+    const SlotFields p = pairs.slot(s.src[f], bodies, s.conflict_lo, s.conflict_hi);
     s.a[f] = p.a;
     s.b[f] = p.b;
     s.sx[f] = static_cast<float>(x[p.b] - x[p.a]);
     s.sy[f] = static_cast<float>(y[p.b] - y[p.a]);
-    s.target[f] = static_cast<float>(p.target);
-    // The same share the general projection would pick (contact_solver.cpp).
-    const float share = static_cast<float>(p.share_a);
-    s.share_now[f] = p.resolved_once ? std::clamp(share, s.conflict_lo, s.conflict_hi) : share;
-    s.share_exact[f] = share;
-    const double r_min = std::min(r[p.a], r[p.b]);
-    s.lambda[f] = static_cast<float>(std::min(p.lambda, kWarmStartCapOverRadius * r_min));
-    s.inv_r_min[f] = static_cast<float>(1.0 / r_min);
+    s.target[f] = p.target;
+    s.share_now[f] = p.share_now;
+    s.share_exact[f] = p.share_exact;
+    s.lambda[f] = p.lambda;
+    s.inv_r_min[f] = p.inv_r_min;
   }
 }
 

@@ -234,6 +234,6 @@ const params::ObjectParams& World::params(ObjectId id) const {
 }
 const params::PushPolicy& World::policy() const { return impl_->policy; }
 const WorldSettings& World::settings() const { return impl_->settings; }
-std::span<const PushEvent> World::push_events() const { return impl_->events; }
+std::span<const PushEvent> World::push_events() const { return {impl_->events.data(), impl_->event_count}; }
 
 }  // namespace throng

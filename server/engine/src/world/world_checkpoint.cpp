@@ -336,7 +336,7 @@ void World::Impl::apply_state(detail::WorldState&& st) {
   } else {
     rebuild_scenery_cells(st.scenery_reach_m);
   }
-  events.clear();
+  event_count = 0;
   stats = StepStats{};
 }
 

@@ -79,7 +79,9 @@ struct World::Impl {
   std::size_t warm_pairs = 0;  // pairs of this tick that start with a warm-start push
   std::vector<detail::SolverPlane> planes;
   std::vector<geom::SceneryContact> contacts;
+  // This tick's push events: the first event_count (the buffer keeps its high-water size).
   std::vector<PushEvent> events;
+  std::size_t event_count = 0;
   std::vector<double> start_x, start_y, start_z;
   std::vector<double> moved_x, moved_y;  // after the move phase, before the solve
   std::vector<double> median_scratch;
@@ -128,6 +130,15 @@ struct World::Impl {
     std::vector<double> share;         // SolverPair::share_a, recomputed when a resistance changed
     bool shares_stale = false;         // a resistance changed since the shares were computed
     std::vector<float> lambda;         // last tick's push (0: none kept)
+    // Per entry, what its schedule slot holds apart from the push, computed once per search (and
+    // the share per refresh) with the schedule's own arithmetic (pair_schedule_build.h): one
+    // 32-byte read per pair when the schedule is built instead of six scattered ones.
+    struct Slot {
+      std::uint32_t a, b;
+      float target, share, inv_r_min;
+      double warm_cap;  // kWarmStartCapOverRadius * smaller radius
+    };
+    std::vector<Slot> slot;
     std::vector<double> x, y, z;       // positions of the search, solver order
     std::vector<std::uint32_t> of_pair;  // this tick's pair k -> list entry
     // A restored world searches again at the saved positions (dense order) before its next step.

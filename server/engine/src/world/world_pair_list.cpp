@@ -163,6 +163,12 @@ bool World::Impl::search_pair_list(const double* x, const double* y, const doubl
     const double gap_z = std::fabs(sb.z[b] - sb.z[a]) - sb.hh[a] - sb.hh[b];
     l.reach[e] = (sb.grounded[a] & sb.grounded[b]) && gap_z >= reach ? 0.0 : reach;
   }
+  l.slot.resize(m);
+  for (std::size_t e = 0; e < m; ++e) {
+    const double r_min = std::min(sb.r[l.a[e]], sb.r[l.b[e]]);
+    const detail::SlotFields f = detail::slot_fields(l.a[e], l.b[e], l.target[e], 0.0, 0.0, false, r_min, 0.0f, 1.0f);
+    l.slot[e] = {f.a, f.b, f.target, 0.0f, f.inv_r_min, detail::kWarmStartCapOverRadius * r_min};
+  }
   refresh_list_shares();
   l.all_fast = std::all_of(l.target.begin(), l.target.end(), [](double t) { return t >= 0.0; });
   l.fresh = true;
@@ -177,6 +183,7 @@ void World::Impl::refresh_list_shares() {
   PairList& l = list;
   for (std::size_t e = 0; e < l.a.size(); ++e) {
     l.share[e] = params::share_a_fast(bodies.resistance[solver_order[l.a[e]]], bodies.resistance[solver_order[l.b[e]]]);
+    l.slot[e].share = static_cast<float>(l.share[e]);
   }
   l.shares_stale = false;
 }
@@ -270,24 +277,29 @@ void World::Impl::materialize_list_pairs() {
 }
 
 // The pairs a kept list takes this tick, scheduled straight from the list (pair_schedule_build.h):
-// the same schedule as from the same pairs as SolverPairs.
+// the same schedule as from the same pairs as SolverPairs. Only a list of fast pairs is scheduled
+// here (solve() materializes any other), and the list is kept only without scenery, so no body
+// touches a plane: every pair is fast.
 void World::Impl::schedule_list_pairs(double conflict) {
   const PairList& l = list;
   struct Source {
-    const PairList& l;
-    std::size_t size() const { return l.live; }
-    std::uint32_t a(std::size_t k) const { return l.a[l.of_pair[k]]; }
-    std::uint32_t b(std::size_t k) const { return l.b[l.of_pair[k]]; }
-    bool fast(const detail::SolverBodies& bodies, std::size_t k) const {
-      const std::uint32_t e = l.of_pair[k];
-      return l.target[e] >= 0.0 && (bodies.plane_count[l.a[e]] | bodies.plane_count[l.b[e]]) == 0;
-    }
-    detail::PairFields fields(std::size_t k) const {
-      const std::uint32_t e = l.of_pair[k];
-      return {l.a[e], l.b[e], l.target[e], l.share[e], static_cast<double>(l.lambda[e]), false};
+    const PairList::Slot* slots;
+    const std::uint32_t* of_pair;
+    const float* lambda;
+    std::size_t live;
+    std::size_t size() const { return live; }
+    std::uint32_t a(std::size_t k) const { return slots[of_pair[k]].a; }
+    std::uint32_t b(std::size_t k) const { return slots[of_pair[k]].b; }
+    bool fast(const detail::SolverBodies&, std::size_t) const { return true; }
+    // slot_fields of the entry (resolved_once is false at the start of a solve), precomputed.
+    detail::SlotFields slot(std::size_t k, const detail::SolverBodies&, float, float) const {
+      const std::uint32_t e = of_pair[k];
+      const PairList::Slot& q = slots[e];
+      return {q.a, q.b, q.target, q.share, q.share, detail::capped_warm_push(lambda[e], q.warm_cap), q.inv_r_min};
     }
   };
-  detail::build_pair_schedule_from(sb, Source{l}, conflict, pair_schedule);
+  detail::build_pair_schedule_from(sb, Source{l.slot.data(), l.of_pair.data(), l.lambda.data(), l.live}, conflict,
+                                   pair_schedule);
 }
 
 }  // namespace throng

@@ -7,6 +7,7 @@
 
 #include "solver/contact_solver.h"
 #include "world/body_passes.h"
+#include "world/warm_store.h"
 #include "world/world_impl.h"
 
 namespace throng {
@@ -240,9 +241,14 @@ void World::Impl::solve() {
 
 void World::Impl::store_warm_start_and_events() {
   std::fill(bodies.warm_count.begin(), bodies.warm_count.end(), 0);
-  events.clear();
   const std::vector<std::uint32_t>& order = solver_order;
   const bool record = settings.record_push_events;
+  // Room for an event per pair and plane: the buffer only grows (warm-up); event_count says how
+  // many this tick holds.
+  const std::size_t most = (sb.displaced ? pair_schedule.fast_size() + pair_schedule.slow.size() : pairs.size()) +
+                           planes.size();
+  if (record && events.size() < most) events.resize(most);
+  event_count = 0;
   // A kept pair list keeps each pair's push as the cache does (zero where the cache cannot).
   float* list_lambda = list.valid ? list.lambda.data() : nullptr;
   const std::uint32_t* list_entry = list.of_pair.data();
@@ -267,36 +273,25 @@ void World::Impl::store_warm_start_and_events() {
     const float kept = p.lambda > 0.0 ? keep(p.a, p.b, p.lambda) : 0.0f;
     if (list_lambda != nullptr) list_lambda[list_entry[k]] = kept;
     if (record && p.lambda > 0.0) {
-      events.push_back({ObjectId{sb.id[p.a]}, ObjectId{sb.id[p.b]}, static_cast<float>(p.depth_start),
-                        static_cast<float>(p.share_a), static_cast<float>(p.lambda)});
+      events[event_count++] = {ObjectId{sb.id[p.a]}, ObjectId{sb.id[p.b]}, static_cast<float>(p.depth_start),
+                               static_cast<float>(p.share_a), static_cast<float>(p.lambda)};
     }
   };
   if (sb.displaced) {
     // A scheduled solve left the fast pairs' pushes in the schedule: read them there, in schedule
     // order (sequential; copying them back into the pair list first was a random write per pair).
-    const detail::PairSchedule& s = pair_schedule;
-    for (std::uint32_t f = 0; f < s.fast_size(); ++f) {
-      const float push = s.lambda[f];
-      if (push <= 0.0f) {
-        if (list_lambda != nullptr && s.src[f] != detail::PairSchedule::kNoPair) list_lambda[list_entry[s.src[f]]] = 0.0f;
-        continue;
-      }
-      const float kept = keep(s.a[f], s.b[f], push);
-      if (list_lambda != nullptr) list_lambda[list_entry[s.src[f]]] = kept;
-      if (record) {
-        events.push_back({ObjectId{sb.id[s.a[f]]}, ObjectId{sb.id[s.b[f]]},
-                          static_cast<float>(detail::fast_pair_start_depth(sb, s, f)), s.share_exact[f], push});
-      }
-    }
-    for (const std::uint32_t k : s.slow) keep_pair(k);
+    event_count = detail::store_fast_pushes(pair_schedule, sb,
+                                            {order.data(), bodies.warm.data(), bodies.warm_count.data(), list_lambda,
+                                             list_entry, record ? events.data() : nullptr});
+    for (const std::uint32_t k : pair_schedule.slow) keep_pair(k);
   } else {
     for (std::uint32_t k = 0; k < pairs.size(); ++k) keep_pair(k);
   }
   if (record) {
     for (const detail::SolverPlane& pl : planes) {
       if (pl.depth_start <= 0.0) continue;
-      events.push_back({ObjectId{sb.id[pl.body]}, pl.fixed, static_cast<float>(pl.depth_start),
-                        static_cast<float>(pl.share), static_cast<float>(pl.depth_start * pl.share)});
+      events[event_count++] = {ObjectId{sb.id[pl.body]}, pl.fixed, static_cast<float>(pl.depth_start),
+                               static_cast<float>(pl.share), static_cast<float>(pl.depth_start * pl.share)};
     }
   }
 }
