@@ -204,7 +204,7 @@ struct World::Impl {
   void materialize_list_pairs();
   void refresh_list_shares();
   void schedule_list_pairs(double conflict);
-  void pairs_from_list();
+  void pairs_from_list(bool gathered);  // gathered: sb already holds the bodies' positions
   bool relieve_piles();
   void build_scenery_planes();
   void solve();
