@@ -57,7 +57,11 @@ TEST(BodyPasses, MoveMatchesTheScalarFormulaBitForBit) {
       for (std::size_t i = 0; i < n; ++i) {
         double dx = before.vx[i] * dt, dy = before.vy[i] * dt;
         if (carry > 0.0) {
-          const double keep = carried_step_share(dx, dy, before.px[i], before.py[i], carry);
+          // The formula as the scalar loop wrote it before the kernel, with std::clamp.
+          const double step2 = dx * dx + dy * dy;
+          const double blocked_times_step =
+              std::clamp(-(before.px[i] * dx + before.py[i] * dy), 0.0, step2);
+          const double keep = 1.0 - carry * blocked_times_step / (step2 > 0.0 ? step2 : 1.0);
           dx *= keep;
           dy *= keep;
         }

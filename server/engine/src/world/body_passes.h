@@ -30,7 +30,8 @@ struct MoveColumns {
 };
 
 // Moves every body by its desired velocity times dt, shortened by the carry (0 = off); a grounded
-// body keeps its height. Bit-identical to the scalar loop in World::Impl::move_bodies.
+// body keeps its height. Bit-identical to the scalar loop in World::Impl::move_bodies (which runs
+// for worlds with scenery) with nothing hit (frac = 1).
 void move_free_bodies(const MoveColumns& c, std::size_t n, double dt, double carry);
 
 // What the tick ends with, per body: the push (final - moved) and the actual velocity

@@ -36,9 +36,10 @@ std::size_t store_fast_pushes(const PairSchedule& s, const SolverBodies& bodies,
     const bool a_owns = id_a < id_b;
     const std::uint32_t owner = order[a_owns ? a : b];
     const std::uint32_t count = warm_count[owner];
-    // Pushes are > 0 here (stored pushes must be: the lookup and the checkpoint loader rely on it).
+    // Only a push > 0 is stored (the lookup and the checkpoint loader rely on it): the kernel's
+    // clamp gives no other here, and the test keeps a NaN out as the old store's did.
     float kept = 0.0f;
-    if (count < kWarmSlots) {
+    if (count < kWarmSlots && push > 0.0f) {
       warm[owner * kWarmSlots + count] = {a_owns ? id_b : id_a, push};
       warm_count[owner] = static_cast<std::uint8_t>(count + 1);
       kept = push;
