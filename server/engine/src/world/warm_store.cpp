@@ -1,5 +1,5 @@
-// On plain pointers: the cache's counts are bytes, and a store through a byte pointer may alias
-// anything, so in the lambda over the world's vectors this replaced every count update made the
+// On plain pointers, with the ids held as values: the cache's counts are bytes, and a store through
+// a byte pointer may alias anything, so in the lambda over the world's vectors this replaced every count update made the
 // compiler reload each vector's data pointer; the events went through push_back. That saved only
 // ~10 of ~290 us a tick (crush 20k, K = 16): the loop waits on memory (a write into each
 // owner's 64-byte block of the cache), not on instructions. Walking the pairs in list (spatial)
@@ -33,17 +33,7 @@ std::size_t store_fast_pushes(const PairSchedule& s, const SolverBodies& bodies,
     }
     const std::uint32_t a = pa[f], b = pb[f];
     const std::uint32_t id_a = id[a], id_b = id[b];
-    const bool a_owns = id_a < id_b;
-    const std::uint32_t owner = order[a_owns ? a : b];
-    const std::uint32_t count = warm_count[owner];
-    // Only a push > 0 is stored (the lookup and the checkpoint loader rely on it): the kernel's
-    // clamp gives no other here, and the test keeps a NaN out as the old store's did.
-    float kept = 0.0f;
-    if (count < kWarmSlots && push > 0.0f) {
-      warm[owner * kWarmSlots + count] = {a_owns ? id_b : id_a, push};
-      warm_count[owner] = static_cast<std::uint8_t>(count + 1);
-      kept = push;
-    }
+    const float kept = keep_warm_push(order, warm, warm_count, a, b, id_a, id_b, push);
     if (list_lambda != nullptr) list_lambda[list_entry[src[f]]] = kept;
     if (events != nullptr) {
       events[written++] = {ObjectId{id_a}, ObjectId{id_b},

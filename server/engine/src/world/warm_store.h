@@ -25,6 +25,24 @@ struct WarmStoreTarget {
   PushEvent* events;
 };
 
+// Keeps pair (a, b)'s push for next tick's warm start with the body of the smaller id (solver
+// indices a, b with ids id_a, id_b), in its next free slot if it has one. Returns the push as
+// kept, 0 if it was not. Only a push > 0 is stored: the lookup and the checkpoint loader rely on
+// it (a push too small for float, below ~1e-45 m, is not kept). Plain pointers and the ids as
+// values: see warm_store.cpp.
+inline float keep_warm_push(const std::uint32_t* order, WarmEntry* warm, std::uint8_t* warm_count, std::uint32_t a,
+                            std::uint32_t b, std::uint32_t id_a, std::uint32_t id_b, float push) {
+  const bool a_owns = id_a < id_b;
+  const std::uint32_t owner = order[a_owns ? a : b];
+  const std::uint32_t count = warm_count[owner];
+  if (count < kWarmSlots && push > 0.0f) {
+    warm[owner * kWarmSlots + count] = {a_owns ? id_b : id_a, push};
+    warm_count[owner] = static_cast<std::uint8_t>(count + 1);
+    return push;
+  }
+  return 0.0f;
+}
+
 // Stores the fast pairs' pushes; returns the number of events written.
 std::size_t store_fast_pushes(const PairSchedule& s, const SolverBodies& bodies, const WarmStoreTarget& t);
 

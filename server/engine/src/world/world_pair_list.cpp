@@ -256,11 +256,13 @@ void World::Impl::take_list_pairs() {
 
 void World::Impl::pairs_from_list(bool gathered) {
   const std::size_t n = bodies.size();
-  for (std::size_t s = 0; s < n && !gathered; ++s) {
-    const std::uint32_t i = solver_order[s];
-    sb.x[s] = bodies.x[i];
-    sb.y[s] = bodies.y[i];
-    sb.z[s] = bodies.z[i];
+  if (!gathered) {
+    for (std::size_t s = 0; s < n; ++s) {
+      const std::uint32_t i = solver_order[s];
+      sb.x[s] = bodies.x[i];
+      sb.y[s] = bodies.y[i];
+      sb.z[s] = bodies.z[i];
+    }
   }
   PairList& l = list;
   const std::size_t m = l.a.size();

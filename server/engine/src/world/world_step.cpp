@@ -252,25 +252,12 @@ void World::Impl::store_warm_start_and_events() {
   // A kept pair list keeps each pair's push as the cache does (zero where the cache cannot).
   float* list_lambda = list.valid ? list.lambda.data() : nullptr;
   const std::uint32_t* list_entry = list.of_pair.data();
-  // The body with the smaller id keeps the pair's push for next tick's warm start. Returns the
-  // push as kept (0 if it was not).
-  auto keep = [&](std::uint32_t a, std::uint32_t b, double push) {
-    const bool a_owns = sb.id[a] < sb.id[b];
-    const std::uint32_t owner = order[a_owns ? a : b];
-    std::uint8_t& count = bodies.warm_count[owner];
-    // A push too small for float (below ~1e-45 m) is not kept: stored pushes are > 0 (the lookup
-    // and the checkpoint loader rely on it).
-    const float lambda = static_cast<float>(push);
-    if (count < detail::kWarmSlots && lambda > 0.0f) {
-      bodies.warm[owner * detail::kWarmSlots + count] = {a_owns ? sb.id[b] : sb.id[a], lambda};
-      ++count;
-      return lambda;
-    }
-    return 0.0f;
-  };
   auto keep_pair = [&](std::uint32_t k) {
     const detail::SolverPair& p = pairs[k];
-    const float kept = p.lambda > 0.0 ? keep(p.a, p.b, p.lambda) : 0.0f;
+    const float kept = p.lambda > 0.0 ? detail::keep_warm_push(order.data(), bodies.warm.data(), bodies.warm_count.data(),
+                                                                p.a, p.b, sb.id[p.a], sb.id[p.b],
+                                                                static_cast<float>(p.lambda))
+                                       : 0.0f;
     if (list_lambda != nullptr) list_lambda[list_entry[k]] = kept;
     if (record && p.lambda > 0.0) {
       events[event_count++] = {ObjectId{sb.id[p.a]}, ObjectId{sb.id[p.b]}, static_cast<float>(p.depth_start),
