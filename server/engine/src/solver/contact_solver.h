@@ -60,8 +60,8 @@ void measure_start_depths(const SolverBodies& bodies, std::vector<SolverPair>& p
 // separation (float) and the bodies' heights (grounded bodies never change height).
 // Inline: the warm-start store calls it for every pushing pair (as a call it was 3% of a tick).
 inline double fast_pair_start_depth(const SolverBodies& bodies, const PairSchedule& schedule, std::uint32_t f) {
-  return depth_at(bodies, schedule.a[f], schedule.b[f], static_cast<double>(schedule.sx[f]),
-                  static_cast<double>(schedule.sy[f]));
+  return depth_at(bodies, schedule.a[f], schedule.b[f],
+                  static_cast<double>(schedule.target[f]) - static_cast<double>(schedule.pen0[f]), 0.0);
 }
 
 // Sweeps alternate direction (symmetric Gauss-Seidel): a sweep carries a push far along its own

@@ -1,15 +1,29 @@
 #pragma once
 // Projection and warm start of the fast pairs of the schedule (pair_schedule.h), a level or a run
 // of whole levels at a time: both bodies grounded, neither touching fixed scenery, resolved in the
-// ground plane at the pair's target distance. The grounded branch of project_pair
-// (pair_projection.h), in single precision on the bodies' displacements (SolverBodies::u), four
-// pairs at a time in SSE.
+// ground plane at the pair's target distance, in single precision on the bodies' displacements
+// (SolverBodies::u), four pairs at a time in SSE.
 //
-// The four-lane path and the scalar path give the same bits (IEEE add, mul, div and sqrt are
-// correctly rounded in both, and there is no FMA), so which path a pair takes never changes the
-// result. SSE is part of baseline x86-64. An eight-lane AVX2 path behind run-time dispatch gained
-// 1.7% (the sweep is bound by the level-to-level dependency and the bodies' loads and stores) and
-// was dropped. No reciprocal estimates (rcpps, rsqrtps): their bits differ between CPU vendors.
+// Each fast pair keeps the normal it had at the start of the tick (PairSchedule::nx, ny): its
+// separating plane (the patent's VP1 at the ratio point) turns with the pair between ticks, not
+// between projections, as in the contact solvers of rigid-body engines. Its penetration is then
+// linear in the displacements, pen = pen0 - n . (u_b - u_a), so a projection needs no square root
+// or division (the sweep went from ~55 to ~44 us at crush 20k, K = 16). More important, the warm
+// start becomes a plain sum of last tick's pushes along fixed directions, whatever order the pairs
+// are applied in, so it can carry the whole push: in a packed crowd the pushes grow towards the
+// middle like pressure in a fluid (crush 20k: up to 7 radii per pair in the core). Along directions
+// re-taken after each push, warm pushes that large throw the bodies about (the warm start was cut
+// at 0.5 r for that reason), and the solve had to rebuild the core's pressure every tick in K
+// sweeps: most of the residual penetration sat there (see kFastWarmStartCapOverRadius).
+// The solution differs from a solve along re-taken directions only by how far a pair turns within
+// one tick; true distance >= n . separation, so a pair the solve leaves at its target along n is
+// at least at its target.
+//
+// The four-lane path and the scalar path give the same bits (IEEE add, sub and mul are correctly
+// rounded in both, and there is no FMA), so which path a pair takes never changes the result. SSE
+// is part of baseline x86-64. An eight-lane AVX2 path behind run-time dispatch gained 1.7% (the
+// sweep is bound by the level-to-level dependency and the bodies' loads and stores) and was
+// dropped.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -18,26 +32,10 @@
 #include <emmintrin.h>
 #endif
 
-#include "solver/pair_projection.h"
 #include "solver/pair_schedule.h"
 #include "solver/solver_data.h"
 
 namespace throng::detail {
-
-// Unit direction from a to b of a fast pair whose separation is (dx, dy) at distance dist.
-inline void fast_direction(const BodyPtrs& b, std::uint32_t ia, std::uint32_t ib, float dx, float dy, float dist,
-                           float target, float& nx, float& ny) {
-  if (dist > 1e-9f * target) {
-    const float inv = 1.0f / dist;
-    nx = dx * inv;
-    ny = dy * inv;
-  } else {
-    double cx, cy;
-    coincident_direction(b.id[ia], b.id[ib], cx, cy);
-    nx = static_cast<float>(cx);
-    ny = static_cast<float>(cy);
-  }
-}
 
 #if defined(__SSE2__)
 // Two bodies' (x, y) displacements as (x0, y0, x1, y1): one 8-byte load or store per body (__m64
@@ -52,10 +50,10 @@ inline void store_body_pair(float* u, std::uint32_t i0, std::uint32_t i1, __m128
 }
 
 // Four consecutive fast pairs k..k+3 of a level, one lane each: their bodies, the bodies'
-// displacements, and the pairs' current separations (start separation + displacement difference).
+// displacements, and the pairs' current penetrations along their normals (fast_penetration).
 struct FourPairs {
   std::uint32_t a0, a1, a2, a3, b0, b1, b2, b3;
-  __m128 ax, ay, bx, by, dx, dy;
+  __m128 ax, ay, bx, by, pen;
 
   FourPairs(const float* u, const PairSchedule& s, std::uint32_t k)
       : a0(s.a[k]), a1(s.a[k + 1]), a2(s.a[k + 2]), a3(s.a[k + 3]),
@@ -66,8 +64,9 @@ struct FourPairs {
     ay = _mm_shuffle_ps(a01, a23, _MM_SHUFFLE(3, 1, 3, 1));
     bx = _mm_shuffle_ps(b01, b23, _MM_SHUFFLE(2, 0, 2, 0));
     by = _mm_shuffle_ps(b01, b23, _MM_SHUFFLE(3, 1, 3, 1));
-    dx = _mm_add_ps(_mm_loadu_ps(s.sx.data() + k), _mm_sub_ps(bx, ax));
-    dy = _mm_add_ps(_mm_loadu_ps(s.sy.data() + k), _mm_sub_ps(by, ay));
+    const __m128 along = _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(s.nx.data() + k), _mm_sub_ps(bx, ax)),
+                                    _mm_mul_ps(_mm_loadu_ps(s.ny.data() + k), _mm_sub_ps(by, ay)));
+    pen = _mm_sub_ps(_mm_loadu_ps(s.pen0.data() + k), along);
   }
 
   // Moves a by -n * move_a and b by +n * move_b, lane by lane, and stores the displacements.
@@ -82,11 +81,11 @@ struct FourPairs {
 };
 #endif
 
-// Fast pair k's current separation (start separation + displacement difference), scalar.
-inline void fast_separation(const float* u, const PairSchedule& s, std::uint32_t k, float& dx, float& dy) {
+// Fast pair k's current penetration along its normal: the start penetration less the part of the
+// displacement difference along the normal (> 0: overlapping), scalar.
+inline float fast_penetration(const float* u, const PairSchedule& s, std::uint32_t k) {
   const std::uint32_t ia = s.a[k], ib = s.b[k];
-  dx = s.sx[k] + (u[2 * ib] - u[2 * ia]);
-  dy = s.sy[k] + (u[2 * ib + 1] - u[2 * ia + 1]);
+  return s.pen0[k] - (s.nx[k] * (u[2 * ib] - u[2 * ia]) + s.ny[k] * (u[2 * ib + 1] - u[2 * ia + 1]));
 }
 
 // Moves a by -n * move_a and b by +n * move_b, scalar (FourPairs::push_apart's lane).
@@ -100,23 +99,15 @@ inline void move_pair_apart(float* u, std::uint32_t ia, std::uint32_t ib, float 
 // pull) over the smaller radius. The ratios are taken with a stored reciprocal: they only steer
 // the early exit, which bands a sweep visits, and StepStats.
 inline float project_fast_pair(const BodyPtrs& b, PairSchedule& s, std::uint32_t k, float& moved) {
-  const std::uint32_t ia = s.a[k], ib = s.b[k];
-  float dx, dy;
-  fast_separation(b.u, s, k, dx, dy);
-  const float target = s.target[k];
+  const float pen = fast_penetration(b.u, s, k);
   const float lambda = s.lambda[k];
-  const float d2 = dx * dx + dy * dy;
-  if (d2 >= target * target && lambda == 0.0f) return 0.0f;
-  const float dist = std::sqrt(d2);
-  const float pen = target - dist;
+  if (pen <= 0.0f && lambda == 0.0f) return 0.0f;
   const float new_lambda = std::max(0.0f, lambda + pen);
   const float step = new_lambda - lambda;
   s.lambda[k] = new_lambda;
   moved = std::max(moved, std::fabs(step) * s.inv_r_min[k]);
-  float nx, ny;
-  fast_direction(b, ia, ib, dx, dy, dist, target, nx, ny);
   const float move_a = step * s.share_now[k];
-  move_pair_apart(b.u, ia, ib, nx, ny, move_a, step - move_a);
+  move_pair_apart(b.u, s.a[k], s.b[k], s.nx[k], s.ny[k], move_a, step - move_a);
   if (pen > 0.0f) {
     s.share_now[k] = std::clamp(s.share_now[k], s.conflict_lo, s.conflict_hi);
     return pen * s.inv_r_min[k];
@@ -139,41 +130,27 @@ inline float project_fast_span(const BodyPtrs& b, PairSchedule& s, std::uint32_t
   whole_end = begin + (end - begin) / 4 * 4;
   // Plain local pointers, so that stores through them need not reload the vectors' members.
   float* const u = b.u;
-  const float* const target_p = s.target.data();
+  const float* const nx_p = s.nx.data();
+  const float* const ny_p = s.ny.data();
   float* const lambda_p = s.lambda.data();
   float* const share_p = s.share_now.data();
   const float* const inv_r_min_p = s.inv_r_min.data();
   const __m128 zero = _mm_setzero_ps();
-  const __m128 eps = _mm_set1_ps(1e-9f);
-  const __m128 one = _mm_set1_ps(1.0f);
   const __m128 conflict_lo = _mm_set1_ps(s.conflict_lo), conflict_hi = _mm_set1_ps(s.conflict_hi);
   const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7FFFFFFF));
   __m128 worst4 = zero, moved4 = zero;
   auto group = [&](std::uint32_t k) {
     const FourPairs q(u, s, k);
-    const __m128 dx = q.dx, dy = q.dy;
-    const __m128 d2 = _mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy));
-    const __m128 target = _mm_loadu_ps(target_p + k);
+    const __m128 pen = q.pen;
     const __m128 lambda = _mm_loadu_ps(lambda_p + k);
     // Lanes the scalar path returns from early: separated with nothing to take back.
-    const __m128 skip = _mm_and_ps(_mm_cmpge_ps(d2, _mm_mul_ps(target, target)), _mm_cmpeq_ps(lambda, zero));
-    const int skip_bits = _mm_movemask_ps(skip);
-    if (skip_bits == 15) return;
-    const __m128 dist = _mm_sqrt_ps(d2);
-    // Coincident cores need the id-derived direction: leave the four lanes to the scalar path.
-    // (Skipped lanes too: their direction is multiplied by a zero step, and 0 * inf is NaN.)
-    const __m128 apart = _mm_cmpgt_ps(dist, _mm_mul_ps(eps, target));
-    if (_mm_movemask_ps(apart) != 15) {
-      for (std::uint32_t lane = 0; lane < 4; ++lane) worst = std::max(worst, project_fast_pair(b, s, k + lane, moved));
-      return;
-    }
-    const __m128 pen = _mm_sub_ps(target, dist);
+    const __m128 skip = _mm_and_ps(_mm_cmple_ps(pen, zero), _mm_cmpeq_ps(lambda, zero));
+    if (_mm_movemask_ps(skip) == 15) return;
     const __m128 new_lambda = _mm_max_ps(_mm_add_ps(lambda, pen), zero);  // std::max(0.0f, v)
     // Skipped lanes move by exactly zero and keep their lambda (a select: the scalar path never
     // touches them).
     const __m128 step = _mm_andnot_ps(skip, _mm_sub_ps(new_lambda, lambda));
-    const __m128 inv = _mm_div_ps(one, dist);
-    const __m128 nx = _mm_mul_ps(dx, inv), ny = _mm_mul_ps(dy, inv);
+    const __m128 nx = _mm_loadu_ps(nx_p + k), ny = _mm_loadu_ps(ny_p + k);
     const __m128 share = _mm_loadu_ps(share_p + k);
     const __m128 move_a = _mm_mul_ps(step, share);
     const __m128 move_b = _mm_sub_ps(step, move_a);
@@ -218,18 +195,12 @@ inline float project_fast_range(const BodyPtrs& b, PairSchedule& s, std::uint32_
 }
 
 // Applies a fast pair's warm-start push (its lambda, already capped when the schedule was built)
-// along the current direction, at the pair's exact share (nothing has pushed it yet this tick).
+// along its normal, at the pair's exact share (nothing has pushed it yet this tick).
 inline void warm_start_fast(const BodyPtrs& b, const PairSchedule& s, std::uint32_t f) {
   const float lambda = s.lambda[f];
   if (lambda == 0.0f) return;
-  const std::uint32_t ia = s.a[f], ib = s.b[f];
-  float dx, dy;
-  fast_separation(b.u, s, f, dx, dy);
-  const float dist = std::sqrt(dx * dx + dy * dy);
-  float nx, ny;
-  fast_direction(b, ia, ib, dx, dy, dist, s.target[f], nx, ny);
   const float move_a = lambda * s.share_now[f];
-  move_pair_apart(b.u, ia, ib, nx, ny, move_a, lambda - move_a);
+  move_pair_apart(b.u, s.a[f], s.b[f], s.nx[f], s.ny[f], move_a, lambda - move_a);
 }
 
 // warm_start_fast over fast pairs [begin, end) of one level, four at a time (same bits). A lane
@@ -240,21 +211,11 @@ inline void warm_start_fast_range(const BodyPtrs& b, const PairSchedule& s, std:
 #if defined(__SSE2__)
   float* const u = b.u;
   const __m128 zero = _mm_setzero_ps();
-  const __m128 eps = _mm_set1_ps(1e-9f);
-  const __m128 one = _mm_set1_ps(1.0f);
   for (; f + 4 <= end; f += 4) {
     const __m128 lambda = _mm_loadu_ps(s.lambda.data() + f);
     if (_mm_movemask_ps(_mm_cmpeq_ps(lambda, zero)) == 15) continue;
     const FourPairs q(u, s, f);
-    const __m128 dx = q.dx, dy = q.dy;
-    const __m128 dist = _mm_sqrt_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)));
-    const __m128 apart = _mm_cmpgt_ps(dist, _mm_mul_ps(eps, _mm_loadu_ps(s.target.data() + f)));
-    if (_mm_movemask_ps(apart) != 15) {
-      for (std::uint32_t lane = 0; lane < 4; ++lane) warm_start_fast(b, s, f + lane);
-      continue;
-    }
-    const __m128 inv = _mm_div_ps(one, dist);
-    const __m128 nx = _mm_mul_ps(dx, inv), ny = _mm_mul_ps(dy, inv);
+    const __m128 nx = _mm_loadu_ps(s.nx.data() + f), ny = _mm_loadu_ps(s.ny.data() + f);
     const __m128 move_a = _mm_mul_ps(lambda, _mm_loadu_ps(s.share_now.data() + f));
     const __m128 move_b = _mm_sub_ps(lambda, move_a);
     q.push_apart(u, nx, ny, move_a, move_b);

@@ -41,8 +41,31 @@ namespace throng::detail {
 inline constexpr std::size_t kScheduleChunkPairs = 2048;
 
 // Warm-start pushes above this fraction of the smaller radius are cut back (see apply_warm_start
-// in contact_solver.cpp).
+// in contact_solver.cpp): the general pairs' cap, whose projection re-takes the pair's direction
+// after every push.
 inline constexpr double kWarmStartCapOverRadius = 0.5;
+// The fast pairs' cap (fast_pair_kernel.h): their warm start is a sum along fixed normals and can
+// carry a packed crowd's pressure, which grows towards its middle (pushes per pair in the core
+// after a tick: crush 20k median 1.0-1.4 r, up to 7 r; 100k up to 8.6 r). Cut at 0.5 r the core
+// had to be rebuilt every tick (crush 20k K = 8, max / p99 penetration over r: 0.33 / 0.11 with
+// the previous solve). Measured, crush 20k K = 6 max / p99 and `mixed` K = 8 p99 over three end
+// ticks: cap 2: 0.32 / 0.031, 0.27-0.31; 4: 0.17 / 0.019, 0.26-0.29; 8: 0.07 / 0.021, 0.25-0.32;
+// 16 and 64: crush as at 8, `mixed` 0.30-0.48 and 0.39-0.67.
+inline constexpr double kFastWarmStartCapOverRadius = 8.0;
+// Only pairs that share their push carry it beyond the general cap: a pair whose share is outside
+// [kCarriedShareMin, 1 - kCarriedShareMin] moves one body by nearly all of its warm push, and a
+// heavy body's push carried into a tick whose geometry has moved on (`mixed`: giants and riders
+// among foot) shoves the light one past pairs the solve does not have. `mixed` K = 8 over five end
+// ticks, median max / mean p99 penetration over r: 1.69 / 0.302 with every fast pair at 8 r,
+// 0.81 / 0.298 with this (0.86 / 0.320 before the fixed normals); a crowd of one weight is
+// unaffected.
+inline constexpr double kCarriedShareMin = 0.25;
+
+// A fast pair's warm-start cap over its smaller radius, from its own share.
+inline double fast_warm_cap_over_radius(double share_a) {
+  return share_a >= kCarriedShareMin && share_a <= 1.0 - kCarriedShareMin ? kFastWarmStartCapOverRadius
+                                                                           : kWarmStartCapOverRadius;
+}
 
 // A scheduled sweep leaves out a band once no band sharing a body with it changed a push (pushed
 // or gave back) by this fraction of the smaller radius or more in its last sweep (after the first
@@ -80,12 +103,13 @@ struct PairSchedule {
   std::vector<std::uint8_t> band_swept;
   std::vector<std::uint32_t> band_busy_before;
 
-  // Fast pairs in level order, in single precision (see SolverBodies::u): the kernel reads a
-  // pair's separation as its start separation (x_b - x_a at the start of the solve, exact to
-  // float's 24 bits whatever the distance from the origin) plus the two bodies' displacements.
+  // Fast pairs in level order, in single precision (see SolverBodies::u). Each keeps its normal
+  // from the start of the solve (unit, from a to b; the id-derived one for coincident cores) and
+  // its penetration along it then (target - distance), so that its penetration at any point of
+  // the solve is pen0 - n . (u_b - u_a) (fast_pair_kernel.h).
   std::vector<std::uint32_t> a, b;
-  std::vector<float> sx, sy;
-  std::vector<float> target;
+  std::vector<float> nx, ny, pen0;
+  std::vector<float> target;  // read only for push events' start depth
   // Share of the next push: exact until the pair's first push, then the conflict share. This is
   // also the fast pairs' only record of SolverPair::resolved_once, which nothing reads after the
   // solve, so it is not copied back.

@@ -6,8 +6,10 @@
 // slot(k, bodies, lo, hi) (what a fast pair's slot holds, from slot_fields or precomputed with the
 // same arithmetic); the schedule is the same whatever holds the pairs.
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 
+#include "solver/pair_projection.h"
 #include "solver/pair_schedule.h"
 
 namespace throng::detail {
@@ -18,8 +20,8 @@ struct SlotFields {
   float target, share_now, share_exact, lambda, inv_r_min;
 };
 
-// The warm-start push a pair starts its solve with: cut to the cap (see apply_warm_start in
-// contact_solver.cpp). `cap` is kWarmStartCapOverRadius * the smaller radius.
+// The warm-start push a fast pair starts its solve with: cut to the cap. `cap` is
+// fast_warm_cap_over_radius(share) * the smaller radius.
 inline float capped_warm_push(double lambda, double cap) { return static_cast<float>(std::min(lambda, cap)); }
 
 // A fast pair's slot from its double fields: the same share the general projection would pick
@@ -32,7 +34,7 @@ inline SlotFields slot_fields(std::uint32_t a, std::uint32_t b, double target, d
           static_cast<float>(target),
           resolved_once ? std::clamp(share, conflict_lo, conflict_hi) : share,
           share,
-          capped_warm_push(lambda, kWarmStartCapOverRadius * r_min),
+          capped_warm_push(lambda, fast_warm_cap_over_radius(share_a) * r_min),
           static_cast<float>(1.0 / r_min)};
 }
 
@@ -143,7 +145,7 @@ void build_pair_schedule_from(const SolverBodies& bodies, const Source& pairs, d
     if (lv & kSlow) s.slow[s.slow_count[lv & ~kSlow]++] = static_cast<std::uint32_t>(k);
     else s.src[s.fast_count[lv]++] = static_cast<std::uint32_t>(k);
   }
-  s.a.resize(slots); s.b.resize(slots); s.sx.resize(slots); s.sy.resize(slots);
+  s.a.resize(slots); s.b.resize(slots); s.nx.resize(slots); s.ny.resize(slots); s.pen0.resize(slots);
   s.target.resize(slots); s.share_now.resize(slots); s.share_exact.resize(slots);
   s.lambda.resize(slots);
   s.inv_r_min.resize(slots);
@@ -158,8 +160,9 @@ void build_pair_schedule_from(const SolverBodies& bodies, const Source& pairs, d
       // Separated (1 m apart, target 0) with no push: every lane test skips it, it moves its body
       // (the spare slot, no real pair's) by exactly zero, and its direction is finite.
       s.a[f] = s.b[f] = pad_body;
-      s.sx[f] = 1.0f;
-      s.sy[f] = 0.0f;
+      s.nx[f] = 1.0f;
+      s.ny[f] = 0.0f;
+      s.pen0[f] = -1.0f;
       s.target[f] = 0.0f;
       s.share_now[f] = s.share_exact[f] = 0.0f;
       s.lambda[f] = 0.0f;
@@ -169,8 +172,19 @@ void build_pair_schedule_from(const SolverBodies& bodies, const Source& pairs, d
     const SlotFields p = pairs.slot(s.src[f], bodies, s.conflict_lo, s.conflict_hi);
     s.a[f] = p.a;
     s.b[f] = p.b;
-    s.sx[f] = static_cast<float>(x[p.b] - x[p.a]);
-    s.sy[f] = static_cast<float>(y[p.b] - y[p.a]);
+    // The pair's normal for this tick (fast_pair_kernel.h), from the double positions (exact
+    // whatever the distance from the origin), and its penetration along it.
+    double dx = x[p.b] - x[p.a], dy = y[p.b] - y[p.a];
+    const double dist = std::sqrt(dx * dx + dy * dy);
+    if (dist > 1e-9 * p.target) {
+      dx /= dist;
+      dy /= dist;
+    } else {
+      coincident_direction(bodies.id[p.a], bodies.id[p.b], dx, dy);
+    }
+    s.nx[f] = static_cast<float>(dx);
+    s.ny[f] = static_cast<float>(dy);
+    s.pen0[f] = static_cast<float>(static_cast<double>(p.target) - dist);
     s.target[f] = p.target;
     s.share_now[f] = p.share_now;
     s.share_exact[f] = p.share_exact;

@@ -136,7 +136,7 @@ struct World::Impl {
     struct Slot {
       std::uint32_t a, b;
       float target, share, inv_r_min;
-      double warm_cap;  // kWarmStartCapOverRadius * smaller radius
+      double warm_cap;  // fast_warm_cap_over_radius(share) * smaller radius (refresh_list_shares)
     };
     std::vector<Slot> slot;
     std::vector<double> x, y, z;       // positions of the search, solver order

@@ -175,7 +175,7 @@ bool World::Impl::search_pair_list(const double* x, const double* y, const doubl
   for (std::size_t e = 0; e < m; ++e) {
     const double r_min = std::min(sb.r[l.a[e]], sb.r[l.b[e]]);
     const detail::SlotFields f = detail::slot_fields(l.a[e], l.b[e], l.target[e], 0.0, 0.0, false, r_min, 0.0f, 1.0f);
-    l.slot[e] = {f.a, f.b, f.target, 0.0f, f.inv_r_min, detail::kWarmStartCapOverRadius * r_min};
+    l.slot[e] = {f.a, f.b, f.target, 0.0f, f.inv_r_min, 0.0};  // share and warm cap: refresh_list_shares
   }
   refresh_list_shares();
   l.all_fast = std::all_of(l.target.begin(), l.target.end(), [](double t) { return t >= 0.0; });
@@ -186,12 +186,14 @@ bool World::Impl::search_pair_list(const double* x, const double* y, const doubl
   return true;
 }
 
-// The entries' shares from the resistances (the list is kept only where nothing else enters one).
+// The entries' shares from the resistances (the list is kept only where nothing else enters one),
+// and the warm-start caps that depend on them.
 void World::Impl::refresh_list_shares() {
   PairList& l = list;
   for (std::size_t e = 0; e < l.a.size(); ++e) {
     l.share[e] = params::share_a_fast(bodies.resistance[solver_order[l.a[e]]], bodies.resistance[solver_order[l.b[e]]]);
     l.slot[e].share = static_cast<float>(l.share[e]);
+    l.slot[e].warm_cap = detail::fast_warm_cap_over_radius(l.share[e]) * std::min(sb.r[l.a[e]], sb.r[l.b[e]]);
   }
   l.shares_stale = false;
 }
