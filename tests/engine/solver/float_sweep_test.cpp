@@ -29,8 +29,9 @@ struct Crowd {
 constexpr double kDensity = 0.6;
 
 // n grounded spheres of radius 0.3-0.4 m at random in a square `offset` metres from the origin,
-// and every pair closer than its radius sum, with random shares and some warm-start pushes.
-Crowd packed_crowd(std::size_t n, double offset, std::uint64_t seed) {
+// and every pair closer than its radius sum, with random shares and some warm-start pushes (up to
+// `warm_m`). Bodies 0 and 1 share one position: their pair needs the id-derived direction.
+Crowd packed_crowd(std::size_t n, double offset, std::uint64_t seed, double warm_m = 0.05) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   Crowd c;
@@ -47,6 +48,8 @@ Crowd packed_crowd(std::size_t n, double offset, std::uint64_t seed) {
     c.bodies.plane_count[i] = 0;
     c.bodies.id[i] = i + 1;
   }
+  c.bodies.x[1] = c.bodies.x[0];
+  c.bodies.y[1] = c.bodies.y[0];
   for (std::uint32_t i = 0; i < n; ++i) {
     for (std::uint32_t j = i + 1; j < n; ++j) {
       const double dx = c.bodies.x[j] - c.bodies.x[i], dy = c.bodies.y[j] - c.bodies.y[i];
@@ -57,7 +60,7 @@ Crowd packed_crowd(std::size_t n, double offset, std::uint64_t seed) {
       p.b = j;
       p.target = rsum;
       p.share_a = 0.1 + 0.8 * unit(rng);
-      p.lambda = unit(rng) < 0.5 ? 0.0 : 0.05 * unit(rng);  // some pairs warm-started
+      p.lambda = unit(rng) < 0.5 ? 0.0 : warm_m * unit(rng);  // some pairs warm-started
       c.pairs.push_back(p);
     }
   }
@@ -85,7 +88,7 @@ double fixed_normal_reference_solve(Crowd& c, int sweeps) {
     nx[k] = dx;
     ny[k] = dy;
     pen0[k] = p.target - dist;
-    p.lambda = std::min(p.lambda, kFastWarmStartCapOverRadius * std::min(c.bodies.r[p.a], c.bodies.r[p.b]));
+    p.lambda = std::min(p.lambda, fast_warm_cap(p.share_a, std::min(c.bodies.r[p.a], c.bodies.r[p.b])));
   }
   auto move = [&](std::size_t k, double step) {
     const SolverPair& p = c.pairs[k];
@@ -118,10 +121,12 @@ double fixed_normal_reference_solve(Crowd& c, int sweeps) {
 // Exact shares throughout (conflict limit 0): the conflict share is a discrete rule (a pair whose
 // depth is ~0 switches to it or not), and float and double rounding can decide it differently,
 // after which both solves are equally valid but apart. With exact shares the scheduled solve (float
-// displacements, four lanes, level order) and the double reference agree to float rounding.
+// displacements, four lanes, level order) and the double reference agree to float rounding. Warm
+// pushes of up to 1 m (~3 r): pairs whose share is within [0.25, 0.75] carry them whole, the others
+// are cut to half a radius (fast_warm_cap), and both solves must cut the same ones.
 TEST(FloatSweep, ScheduledSolveAgreesWithTheDoubleSolveToFloatRounding) {
   for (const double offset : {0.0, 10000.0}) {
-    const Crowd start = packed_crowd(1500, offset, 11);
+    const Crowd start = packed_crowd(1500, offset, 11, 1.0);
     ASSERT_GT(start.pairs.size(), 1500u);
     const std::vector<SolverPlane> no_planes;
 
@@ -151,14 +156,50 @@ TEST(FloatSweep, ScheduledSolveAgreesWithTheDoubleSolveToFloatRounding) {
                 start.pairs.size(), moved, worst);
     EXPECT_GT(moved, 0.5);  // the crowd really was pushed apart
     // Float keeps ~6e-8 of each displacement; eight sweeps over a jam amplify that, but not
-    // beyond 1e-5 of the largest move (measured: 1.6e-7 m of 1.04 m, at either offset).
+    // beyond 1e-5 of the largest move (measured: 2.6e-7 m of 1.23 m, at either offset).
     const double tolerance = 1e-5 * moved;
     EXPECT_LT(worst, tolerance);
     EXPECT_NEAR(rf.max_pen_over_radius, worst_exact, 1e-3);
     for (std::size_t k = 0; k < start.pairs.size(); ++k) {
       ASSERT_NEAR(fast.pairs[k].lambda, exact.pairs[k].lambda, tolerance) << "pair " << k;
     }
+    // Both kinds of cap were in play, and the coincident pair moved its bodies apart.
+    int carried = 0, cut = 0;
+    for (const SolverPair& p : start.pairs) {
+      const double r_min = std::min(start.bodies.r[p.a], start.bodies.r[p.b]);
+      if (p.lambda > kWarmStartCapOverRadius * r_min) (fast_warm_cap(p.share_a, r_min) > p.lambda ? carried : cut) += 1;
+    }
+    EXPECT_GT(carried, 100);
+    EXPECT_GT(cut, 100);
+    EXPECT_GT(std::hypot(fast.bodies.px(1) - fast.bodies.px(0), fast.bodies.py(1) - fast.bodies.py(0)), 0.1);
   }
+}
+
+// A fast pair's start depth, read back from the schedule for push events (target - pen0), is the
+// pair's depth at the start positions; the coincident pair's normal is the id-derived direction.
+TEST(FloatSweep, ScheduleKeepsEachPairsStartDepthAndAFiniteNormal) {
+  Crowd c = packed_crowd(1500, 10000.0, 3);
+  c.bodies.displaced = true;
+  std::fill(c.bodies.u.begin(), c.bodies.u.end(), 0.0f);
+  PairSchedule s;
+  build_pair_schedule(c.bodies, c.pairs, 0.25, s);
+  std::size_t checked = 0;
+  for (std::uint32_t f = 0; f < s.fast_size(); ++f) {
+    ASSERT_TRUE(std::isfinite(s.nx[f]) && std::isfinite(s.ny[f]) && std::isfinite(s.pen0[f])) << "slot " << f;
+    ASSERT_NEAR(std::hypot(s.nx[f], s.ny[f]), 1.0, 1e-6) << "slot " << f;
+    if (s.src[f] == PairSchedule::kNoPair) continue;
+    const SolverPair& p = c.pairs[s.src[f]];
+    ASSERT_NEAR(fast_pair_start_depth(c.bodies, s, f), pair_depth(c.bodies, p), 1e-6) << "pair " << s.src[f];
+    if (p.a == 0 && p.b == 1) {
+      double nx, ny;
+      coincident_direction(1, 2, nx, ny);
+      EXPECT_FLOAT_EQ(s.nx[f], static_cast<float>(nx));
+      EXPECT_FLOAT_EQ(s.ny[f], static_cast<float>(ny));
+      EXPECT_NEAR(fast_pair_start_depth(c.bodies, s, f), p.target, 1e-6);
+    }
+    ++checked;
+  }
+  EXPECT_EQ(checked, c.pairs.size());
 }
 
 // The crowd set up for a scheduled solve (displacements zero) and its schedule, conflict limit 0.25.

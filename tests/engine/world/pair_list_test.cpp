@@ -25,6 +25,7 @@ namespace throng::detail {
 struct WorldProbe {
   using Impl = World::Impl;
   static const Impl& impl(const World& w) { return *w.impl_; }
+  static Impl& mut(World& w) { return *w.impl_; }
 };
 }  // namespace throng::detail
 
@@ -144,6 +145,75 @@ TEST(PairList, SearchTickGivesThePlainSearchsBits) {
     EXPECT_EQ(std::memcmp(bw.data(), bo.data(), bw.size() * sizeof(double)), 0);
     for (int t = 0; t < 30; ++t) EXPECT_EQ(step(without).pair_list_reused, 0u);
   }
+}
+
+// The schedule of a kept tick comes straight from the list's records (schedule_list_pairs), whose
+// shares and warm-start caps are refreshed when a resistance changes; the general path builds it
+// from SolverPairs (slot_fields). Both must fill every slot with the same bits, with warm pushes
+// above the general cap (where a pair's share decides whether it carries them, fast_warm_cap),
+// on a kept tick right after weights changed under the list (its shares had gone stale).
+TEST(PairList, ListAndPairSourcesFillTheSameSchedule) {
+  WorldSettings settings;
+  settings.iterations = 8;
+  World w(settings, test::test_table(), test::weight_policy(params::PushMode::ratio, 100.0));
+  const char* kinds[] = {"infantry", "light", "heavy"};
+  for (int i = 0; i < 30; ++i) {
+    for (int j = 0; j < 30; ++j) test::add_sphere(w, -9.0 + 0.66 * i, -9.0 + 0.66 * j, 0.35, kinds[(i + 2 * j) % 3]);
+  }
+  auto steer = [&] {
+    for (std::size_t k = 0; k < w.body_count(); ++k) {
+      const double x = w.pos_x()[k], y = w.pos_y()[k], d = std::hypot(x, y);
+      w.set_desired_velocity(w.id_at(k), d > 0.5 ? Vec3{-x / d, -y / d, 0.0} : Vec3{});
+    }
+  };
+  for (int t = 0; t < 100; ++t) {
+    steer();
+    w.step();
+  }
+  Impl& m = WorldProbe::mut(w);
+  bool compared = false;
+  for (int t = 0; t < 60 && !compared; ++t) {
+    steer();
+    // Only while a list is kept, so that the next tick refreshes the stale shares if it keeps it.
+    const bool kept_before = m.list.valid;
+    if (kept_before) {
+      for (std::size_t k = 0; k < w.body_count(); k += 7) w.set_param(w.id_at(k), params::Param::weight_kg, 40.0 + 5.0 * (t % 40));
+    }
+    const StepStats& st = w.step();
+    if (!kept_before || st.pair_list_reused == 0 || !m.pairs_in_list) continue;
+    compared = true;
+    // Pushes of 3 r on every taken entry: above the general cap, below the carried one.
+    for (std::size_t k = 0; k < m.list.live; ++k) m.list.lambda[m.list.of_pair[k]] = 3.0f * 0.35f;
+    m.schedule_list_pairs(settings.conflict_share_limit);
+    const detail::PairSchedule from_list = m.pair_schedule;
+    m.materialize_list_pairs();
+    detail::PairSchedule from_pairs;
+    detail::build_pair_schedule(m.sb, m.pairs, settings.conflict_share_limit, from_pairs);
+    ASSERT_GT(from_list.fast_size(), 1000u);
+    EXPECT_EQ(from_list.src, from_pairs.src);
+    EXPECT_EQ(from_list.a, from_pairs.a);
+    EXPECT_EQ(from_list.b, from_pairs.b);
+    auto same_bits = [](const std::vector<float>& x, const std::vector<float>& y) {
+      return x.size() == y.size() && std::memcmp(x.data(), y.data(), x.size() * sizeof(float)) == 0;
+    };
+    EXPECT_TRUE(same_bits(from_list.nx, from_pairs.nx));
+    EXPECT_TRUE(same_bits(from_list.ny, from_pairs.ny));
+    EXPECT_TRUE(same_bits(from_list.pen0, from_pairs.pen0));
+    EXPECT_TRUE(same_bits(from_list.target, from_pairs.target));
+    EXPECT_TRUE(same_bits(from_list.share_now, from_pairs.share_now));
+    EXPECT_TRUE(same_bits(from_list.share_exact, from_pairs.share_exact));
+    EXPECT_TRUE(same_bits(from_list.inv_r_min, from_pairs.inv_r_min));
+    EXPECT_TRUE(same_bits(from_list.lambda, from_pairs.lambda));
+    // Both caps were in play.
+    int carried = 0, cut = 0;
+    for (const float v : from_list.lambda) {
+      carried += v == 3.0f * 0.35f;
+      cut += v == static_cast<float>(detail::kWarmStartCapOverRadius * 0.35);
+    }
+    EXPECT_GT(carried, 100);
+    EXPECT_GT(cut, 100);
+  }
+  EXPECT_TRUE(compared) << "no kept tick followed a change of weights";
 }
 
 TEST(PairList, AnythingButMotionDropsTheList) {

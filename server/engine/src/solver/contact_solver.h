@@ -56,8 +56,8 @@ double pair_depth(const SolverBodies& bodies, const SolverPair& pair);
 void measure_start_depths(const SolverBodies& bodies, std::vector<SolverPair>& pairs, std::vector<SolverPlane>& planes,
                           const PairSchedule* schedule);
 
-// Fast pair f's depth at the start of a scheduled solve, read after it from the schedule's start
-// separation (float) and the bodies' heights (grounded bodies never change height).
+// Fast pair f's depth at the start of a scheduled solve, read after it from the schedule (the start
+// distance is target - pen0) and the bodies' heights (grounded bodies never change height).
 // Inline: the warm-start store calls it for every pushing pair (as a call it was 3% of a tick).
 inline double fast_pair_start_depth(const SolverBodies& bodies, const PairSchedule& schedule, std::uint32_t f) {
   return depth_at(bodies, schedule.a[f], schedule.b[f],

@@ -12,7 +12,8 @@
 // order computes bit-for-bit what a sweep in broadphase order with the same arithmetic computes,
 // and the reverse level order the reverse sweep. Nothing about convergence changes; only the
 // waiting goes. (The crowd solve that uses this order also does its arithmetic on float
-// displacements, see SolverBodies::u, so its bits differ from the double pair-order solve's.)
+// displacements, see SolverBodies::u, and its fast pairs keep their start-of-tick normals and a
+// larger warm-start cap, see fast_pair_kernel.h: it is not the double pair-order solve's method.)
 //
 // The pairs are cut into chunks of kScheduleChunkPairs consecutive pairs (a band of grid rows)
 // and every level lies within one chunk: still a valid reordering, and a sweep then works
@@ -61,10 +62,12 @@ inline constexpr double kFastWarmStartCapOverRadius = 8.0;
 // unaffected.
 inline constexpr double kCarriedShareMin = 0.25;
 
-// A fast pair's warm-start cap over its smaller radius, from its own share.
-inline double fast_warm_cap_over_radius(double share_a) {
-  return share_a >= kCarriedShareMin && share_a <= 1.0 - kCarriedShareMin ? kFastWarmStartCapOverRadius
-                                                                           : kWarmStartCapOverRadius;
+// A fast pair's warm-start cap in metres, from its own share (double, as SolverPair::share_a) and
+// its smaller radius. Both schedule sources (pair_schedule_build.h, the kept list's records in
+// world_pair_list.cpp) call this, so a pair gets the same cap bits either way (tested).
+inline double fast_warm_cap(double share_a, double r_min) {
+  const bool carried = share_a >= kCarriedShareMin && share_a <= 1.0 - kCarriedShareMin;
+  return (carried ? kFastWarmStartCapOverRadius : kWarmStartCapOverRadius) * r_min;
 }
 
 // A scheduled sweep leaves out a band once no band sharing a body with it changed a push (pushed

@@ -20,8 +20,7 @@ struct SlotFields {
   float target, share_now, share_exact, lambda, inv_r_min;
 };
 
-// The warm-start push a fast pair starts its solve with: cut to the cap. `cap` is
-// fast_warm_cap_over_radius(share) * the smaller radius.
+// The warm-start push a fast pair starts its solve with: cut to the cap (fast_warm_cap).
 inline float capped_warm_push(double lambda, double cap) { return static_cast<float>(std::min(lambda, cap)); }
 
 // A fast pair's slot from its double fields: the same share the general projection would pick
@@ -34,7 +33,7 @@ inline SlotFields slot_fields(std::uint32_t a, std::uint32_t b, double target, d
           static_cast<float>(target),
           resolved_once ? std::clamp(share, conflict_lo, conflict_hi) : share,
           share,
-          capped_warm_push(lambda, fast_warm_cap_over_radius(share_a) * r_min),
+          capped_warm_push(lambda, fast_warm_cap(share_a, r_min)),
           static_cast<float>(1.0 / r_min)};
 }
 

@@ -131,12 +131,13 @@ struct World::Impl {
     bool shares_stale = false;         // a resistance changed since the shares were computed
     std::vector<float> lambda;         // last tick's push (0: none kept)
     // Per entry, what its schedule slot holds apart from the push, computed once per search (and
-    // the share per refresh) with the schedule's own arithmetic (pair_schedule_build.h): one
-    // 32-byte read per pair when the schedule is built instead of six scattered ones.
+    // the share and warm-start cap per refresh, refresh_list_shares) with the schedule's own
+    // arithmetic (pair_schedule_build.h): one 32-byte read per pair when the schedule is built
+    // instead of six scattered ones.
     struct Slot {
       std::uint32_t a, b;
       float target, share, inv_r_min;
-      double warm_cap;  // fast_warm_cap_over_radius(share) * smaller radius (refresh_list_shares)
+      double warm_cap;  // fast_warm_cap(share, smaller radius), set by refresh_list_shares
     };
     std::vector<Slot> slot;
     std::vector<double> x, y, z;       // positions of the search, solver order

@@ -193,7 +193,7 @@ void World::Impl::refresh_list_shares() {
   for (std::size_t e = 0; e < l.a.size(); ++e) {
     l.share[e] = params::share_a_fast(bodies.resistance[solver_order[l.a[e]]], bodies.resistance[solver_order[l.b[e]]]);
     l.slot[e].share = static_cast<float>(l.share[e]);
-    l.slot[e].warm_cap = detail::fast_warm_cap_over_radius(l.share[e]) * std::min(sb.r[l.a[e]], sb.r[l.b[e]]);
+    l.slot[e].warm_cap = detail::fast_warm_cap(l.share[e], std::min(sb.r[l.a[e]], sb.r[l.b[e]]));
   }
   l.shares_stale = false;
 }
