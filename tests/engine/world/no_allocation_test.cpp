@@ -69,20 +69,14 @@ TEST(WorldNoAllocation, OpenCrowdWithAKeptPairListTicksWithoutAllocating) {
   for (int i = 0; i < 40; ++i) {
     for (int j = 0; j < 40; ++j) add_sphere(w, -13.0 + 0.66 * i, -13.0 + 0.66 * j, 0.35, (i + j) % 3 ? "infantry" : "heavy");
   }
-  auto steer = [&] {
-    for (std::size_t k = 0; k < w.body_count(); ++k) {
-      const double x = w.pos_x()[k], y = w.pos_y()[k], d = std::hypot(x, y);
-      w.set_desired_velocity(w.id_at(k), d > 0.5 ? Vec3{-x / d, -y / d, 0.0} : Vec3{});
-    }
-  };
   for (int t = 0; t < 200; ++t) {
-    steer();
+    steer_to_origin(w);
     w.step();
   }
   std::uint32_t kept = 0, searched = 0;
   g_allocations = 0;
   for (int t = 0; t < 64; ++t) {
-    steer();  // outside the counted step
+    steer_to_origin(w);  // outside the counted step
     g_counting = true;
     const StepStats& st = w.step();
     g_counting = false;

@@ -160,20 +160,14 @@ TEST(PairList, ListAndPairSourcesFillTheSameSchedule) {
   for (int i = 0; i < 30; ++i) {
     for (int j = 0; j < 30; ++j) test::add_sphere(w, -9.0 + 0.66 * i, -9.0 + 0.66 * j, 0.35, kinds[(i + 2 * j) % 3]);
   }
-  auto steer = [&] {
-    for (std::size_t k = 0; k < w.body_count(); ++k) {
-      const double x = w.pos_x()[k], y = w.pos_y()[k], d = std::hypot(x, y);
-      w.set_desired_velocity(w.id_at(k), d > 0.5 ? Vec3{-x / d, -y / d, 0.0} : Vec3{});
-    }
-  };
   for (int t = 0; t < 100; ++t) {
-    steer();
+    test::steer_to_origin(w);
     w.step();
   }
   Impl& m = WorldProbe::mut(w);
   bool compared = false;
   for (int t = 0; t < 60 && !compared; ++t) {
-    steer();
+    test::steer_to_origin(w);
     // Only while a list is kept, so that the next tick refreshes the stale shares if it keeps it.
     const bool kept_before = m.list.valid;
     if (kept_before) {

@@ -69,4 +69,13 @@ inline ObjectId add_sphere(World& w, double x, double y, double r = 0.35, const 
 
 inline double distance_xy(const Vec3& a, const Vec3& b) { return std::hypot(b.x - a.x, b.y - a.y); }
 
+// Every body walks towards the origin at 1 m/s (and stands once within 0.5 m of it): an open
+// crowd that jams in the middle. Call before each step.
+inline void steer_to_origin(World& w) {
+  for (std::size_t k = 0; k < w.body_count(); ++k) {
+    const double x = w.pos_x()[k], y = w.pos_y()[k], d = std::hypot(x, y);
+    w.set_desired_velocity(w.id_at(k), d > 0.5 ? Vec3{-x / d, -y / d, 0.0} : Vec3{});
+  }
+}
+
 }  // namespace throng::test
