@@ -58,7 +58,7 @@ inline constexpr double kFastWarmStartCapOverRadius = 8.0;
 // heavy body's push carried into a tick whose geometry has moved on (`mixed`: giants and riders
 // among foot) shoves the light one past pairs the solve does not have. `mixed` K = 8 over five end
 // ticks, median max / mean p99 penetration over r: 1.69 / 0.302 with every fast pair at 8 r,
-// 0.81 / 0.298 with this (0.86 / 0.320 before the fixed normals); a crowd of one weight is
+// 0.69 / 0.296 with this (0.86 / 0.320 before the fixed normals); a crowd of one weight is
 // unaffected.
 inline constexpr double kCarriedShareMin = 0.25;
 
