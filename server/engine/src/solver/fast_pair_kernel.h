@@ -49,11 +49,11 @@ inline void store_body_pair(float* u, std::uint32_t i0, std::uint32_t i1, __m128
   _mm_storeh_pi(reinterpret_cast<__m64*>(u + 2 * i1), v);
 }
 
-// Four consecutive fast pairs k..k+3 of a level, one lane each: their bodies, the bodies'
-// displacements, and the pairs' current penetrations along their normals (fast_penetration).
+// Four consecutive fast pairs k..k+3 of a level, one lane each: their bodies and the bodies'
+// displacements.
 struct FourPairs {
   std::uint32_t a0, a1, a2, a3, b0, b1, b2, b3;
-  __m128 ax, ay, bx, by, pen;
+  __m128 ax, ay, bx, by;
 
   FourPairs(const float* u, const PairSchedule& s, std::uint32_t k)
       : a0(s.a[k]), a1(s.a[k + 1]), a2(s.a[k + 2]), a3(s.a[k + 3]),
@@ -64,9 +64,13 @@ struct FourPairs {
     ay = _mm_shuffle_ps(a01, a23, _MM_SHUFFLE(3, 1, 3, 1));
     bx = _mm_shuffle_ps(b01, b23, _MM_SHUFFLE(2, 0, 2, 0));
     by = _mm_shuffle_ps(b01, b23, _MM_SHUFFLE(3, 1, 3, 1));
+  }
+
+  // The pairs' current penetrations along their normals, lane by lane (fast_penetration).
+  __m128 penetration(const PairSchedule& s, std::uint32_t k) const {
     const __m128 along = _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(s.nx.data() + k), _mm_sub_ps(bx, ax)),
                                     _mm_mul_ps(_mm_loadu_ps(s.ny.data() + k), _mm_sub_ps(by, ay)));
-    pen = _mm_sub_ps(_mm_loadu_ps(s.pen0.data() + k), along);
+    return _mm_sub_ps(_mm_loadu_ps(s.pen0.data() + k), along);
   }
 
   // Moves a by -n * move_a and b by +n * move_b, lane by lane, and stores the displacements.
@@ -141,7 +145,7 @@ inline float project_fast_span(const BodyPtrs& b, PairSchedule& s, std::uint32_t
   __m128 worst4 = zero, moved4 = zero;
   auto group = [&](std::uint32_t k) {
     const FourPairs q(u, s, k);
-    const __m128 pen = q.pen;
+    const __m128 pen = q.penetration(s, k);
     const __m128 lambda = _mm_loadu_ps(lambda_p + k);
     // Lanes the scalar path returns from early: separated with nothing to take back.
     const __m128 skip = _mm_and_ps(_mm_cmple_ps(pen, zero), _mm_cmpeq_ps(lambda, zero));

@@ -254,10 +254,8 @@ void World::Impl::store_warm_start_and_events() {
   const std::uint32_t* list_entry = list.of_pair.data();
   auto keep_pair = [&](std::uint32_t k) {
     const detail::SolverPair& p = pairs[k];
-    const float kept = p.lambda > 0.0 ? detail::keep_warm_push(order.data(), bodies.warm.data(), bodies.warm_count.data(),
-                                                                p.a, p.b, sb.id[p.a], sb.id[p.b],
-                                                                static_cast<float>(p.lambda))
-                                       : 0.0f;
+    const float kept = detail::keep_warm_push(order.data(), bodies.warm.data(), bodies.warm_count.data(), p.a, p.b,
+                                              sb.id[p.a], sb.id[p.b], static_cast<float>(p.lambda));
     if (list_lambda != nullptr) list_lambda[list_entry[k]] = kept;
     if (record && p.lambda > 0.0) {
       events[event_count++] = {ObjectId{sb.id[p.a]}, ObjectId{sb.id[p.b]}, static_cast<float>(p.depth_start),
