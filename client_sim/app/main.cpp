@@ -22,6 +22,7 @@
 #include "throng/client_sim/behavior.h"
 #include "throng/client_sim/fleet.h"
 #include "throng/client_sim/report.h"
+#include "throng/protocol/security.h"
 
 namespace {
 
@@ -61,6 +62,11 @@ int main(int argc, char** argv) {
                "one DDS participant per bot (default: all bots share one)");
   app.add_flag("--loopback,!--no-loopback", o.loopback,
                "DDS on 127.0.0.1 only (default) or Fast DDS's default transports and discovery");
+  app.add_option("--security", o.security_dir,
+                 "DDS Security: directory made by throng-pki; the bots authenticate as the bot fleet identity")
+      ->check(CLI::ExistingDirectory);
+  app.add_option("--identity", o.identity, "identity in the --security directory: bots (default), operator, or a "
+                                           "player made with throng-pki client");
   app.add_flag("--ramp", o.ramp, "ramp mode: add bots step by step until the server stops keeping up");
   app.add_option("--ramp-start", o.ramp_options.start, "bots in the first step")->check(CLI::Range(1u, 100000u));
   app.add_option("--ramp-step", o.ramp_options.step, "bots added per step")->check(CLI::Range(1u, 100000u));
@@ -94,6 +100,14 @@ int main(int argc, char** argv) {
   fo.domain_id = o.domain;
   fo.loopback_only = o.loopback;
   fo.participant_per_client = o.participant_per_client;
+  if (!o.security_dir.empty()) {
+    try {
+      fo.security = protocol::security_files(o.security_dir, o.identity);
+    } catch (const std::exception& e) {
+      fmt::print(stderr, "throng-bots: {}\n", e.what());
+      return 1;
+    }
+  }
   fo.behavior = o.behavior;
   fo.name_prefix = o.name_prefix;
   fo.seed = o.seed;

@@ -15,6 +15,8 @@ struct Options {
   std::string json_path;
   bool participant_per_client = false;
   bool loopback = true;
+  std::string security_dir;            // --security DIR (empty: off)
+  std::string identity = "bots";       // --identity: whose files in DIR the bots use
   bool ramp = false;
   client_sim::RampOptions ramp_options;
   std::uint64_t seed = 0;

@@ -84,6 +84,7 @@ struct Fleet::Impl {
     t.domain_id = options.domain_id;
     t.loopback_only = options.loopback_only;
     t.participant_name = name;
+    t.security = options.security;
     auto tr = std::make_unique<protocol::ClientTransport>(t);
     tr->start(handlers());
     transports.push_back(std::move(tr));
@@ -176,6 +177,7 @@ bool Fleet::connect() {
     t.domain_id = impl_->options.domain_id;
     t.loopback_only = impl_->options.loopback_only;
     t.participant_name = impl_->options.name_prefix + "-probe";
+    t.security = impl_->options.security;
     protocol::ClientTransport probe(t);
     probe.start({});
     return probe.wait_for_server(impl_->options.server_wait);

@@ -96,6 +96,9 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   play_cmd->add_option("--domain", play.domain, "DDS domain id (like throng-server)")->check(CLI::Range(0, 232));
   play_cmd->add_flag("--network", play.network, "Fast DDS's default transports and discovery (default: 127.0.0.1 only)");
+  play_cmd->add_option("--security", play.security_dir,
+                       "DDS Security: directory made by throng-pki; plays as the server identity (DIR/server)")
+      ->check(CLI::ExistingDirectory);
   play_cmd->add_flag("--loop", play.loop, "at the end, seek back to --from and play again until SIGINT/SIGTERM");
   play_cmd->add_flag("--strict", play.strict, "stop at the first tick whose state hash differs from the log (exit 1)");
   play_cmd->add_option("--max-watchers", play.max_watchers, "spectators accepted at once (more: match_full)")

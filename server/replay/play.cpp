@@ -16,6 +16,7 @@
 #include "play_session.h"
 #include "throng/matchlog/log_player.h"
 #include "throng/protocol/dds_transport.h"
+#include "throng/protocol/security.h"
 #include "throng/server/tick_schedule.h"
 
 namespace throng::replay {
@@ -109,7 +110,9 @@ int run_play(const PlayOptions& o) {
 
   std::unique_ptr<protocol::ServerTransport> transport;
   try {
-    transport = std::make_unique<protocol::ServerTransport>(protocol::TransportOptions{o.domain, !o.network, "throng-replay"});
+    protocol::TransportOptions t{o.domain, !o.network, "throng-replay", std::nullopt};
+    if (!o.security_dir.empty()) t.security = protocol::security_files(o.security_dir, protocol::kServerIdentity);
+    transport = std::make_unique<protocol::ServerTransport>(t);
   } catch (const std::exception& e) {
     fmt::print(stderr, "throng-replay play: cannot open DDS domain {}: {}\n", o.domain, e.what());
     return kExitBadInput;

@@ -342,8 +342,8 @@ TEST_F(MatchCheckpointErrors, WrongMagicVersionAndTrailingBytes) {
   bad[1] ^= 0x40;
   expect_error(target, bad, "magic");
   bad = saved;
-  bad[4] = 3;
-  expect_error(target, bad, "version 3, this build reads versions 1 to 2");
+  bad[4] = 4;
+  expect_error(target, bad, "version 4, this build reads versions 1 to 3");
   bad = saved;
   bad[4] = 0;
   expect_error(target, bad, "version 0");

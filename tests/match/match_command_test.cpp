@@ -56,6 +56,9 @@ TEST(MatchCommands, EveryRejectReasonCountedOnceAndChangesNothing) {
       protocol::Command actions = command(1, e1, 7, 0.5f, 0.0f);
       actions.actions = 1u << 7;                           // bad_actions
       bad.push_back(actions);
+      protocol::Command foreign = command(1, e1, 8, 1.0f, 0.0f);
+      foreign.sender.bytes[0] = 7;                         // foreign_participant: client 1 joined from
+      bad.push_back(foreign);                              //   the all-zero participant
     } else if (t == 3) {
       good.push_back(command(1, e1, 5, 1.0f, 0.0f));
     } else if (t == 4) {
@@ -82,7 +85,7 @@ TEST(MatchCommands, EveryRejectReasonCountedOnceAndChangesNothing) {
     EXPECT_EQ(out_a.snapshots[0].last_applied_sequence, out_b.snapshots[0].last_applied_sequence);
     EXPECT_EQ(out_a.snapshots[0].last_applied_tick, out_b.snapshots[0].last_applied_tick);
   }
-  EXPECT_EQ(rejected_reported, 10u);
+  EXPECT_EQ(rejected_reported, 11u);
   for (std::size_t r = 0; r < kRejectReasonCount; ++r) {
     EXPECT_EQ(a.rejected_by_reason()[r], 1u) << to_string(static_cast<RejectReason>(r));
     EXPECT_EQ(b.rejected_by_reason()[r], 0u);

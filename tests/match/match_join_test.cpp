@@ -178,6 +178,70 @@ TEST(MatchJoin, DuplicateJoinIsIdempotent) {
   EXPECT_EQ(m.client_count(), 1u);
 }
 
+// A client belongs to the participant that joined it: another participant that learnt its nonce
+// and id (both are in the public join reply) can neither make it leave nor get its reply again.
+// Those requests are counted, answered with nothing (a refusal keyed by the owner's nonce would
+// replace the owner's reply) and change nothing: the state hash follows a twin without them.
+TEST(MatchJoin, ForeignParticipantCannotLeaveOrRejoinSomeoneElsesClient) {
+  protocol::ParticipantKey owner, stranger;
+  owner.bytes = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12};
+  stranger.bytes = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 13};
+  Match a(two_armies(), small_config(), "a");
+  Match b(two_armies(), small_config(), "b");
+  Outbox out_a, out_b;
+  for (Match* m : {&a, &b}) {
+    protocol::JoinRequest j = join_request(500, "victim");
+    j.sender = owner;
+    m->inputs().push(std::move(j));
+  }
+  a.tick(out_a);
+  b.tick(out_b);
+  ASSERT_EQ(out_a.join_replies.size(), 1u);
+  const std::uint32_t id = out_a.join_replies[0].client_id;
+
+  protocol::JoinRequest leave = leave_request(500, id);
+  leave.sender = stranger;
+  protocol::JoinRequest rejoin = join_request(500, "victim");
+  rejoin.sender = stranger;
+  a.inputs().push(std::move(leave));
+  a.inputs().push(std::move(rejoin));
+  const TickReport& r = a.tick(out_a);
+  b.tick(out_b);
+  EXPECT_EQ(r.joins_foreign, 2u);
+  EXPECT_EQ(r.leaves, 0u);
+  EXPECT_EQ(r.joins_refused, 0u);
+  EXPECT_TRUE(out_a.join_replies.empty());
+  EXPECT_TRUE(out_a.client_events.empty());
+  EXPECT_EQ(a.client_count(), 1u);
+  EXPECT_EQ(a.state_hash(), b.state_hash());
+
+  // The owner still can.
+  protocol::JoinRequest own_leave = leave_request(500, id);
+  own_leave.sender = owner;
+  a.inputs().push(std::move(own_leave));
+  const TickReport& r2 = a.tick(out_a);
+  EXPECT_EQ(r2.leaves, 1u);
+  EXPECT_EQ(r2.joins_foreign, 0u);
+  ASSERT_EQ(out_a.join_replies.size(), 1u);
+  EXPECT_EQ(out_a.join_replies[0].result, JoinResult::left);
+  EXPECT_EQ(a.client_count(), 0u);
+}
+
+// With an authenticated identity the partition is named after it, so a player's permissions can
+// grant it before the join; without one it stays c<id>.
+TEST(MatchJoin, PartitionFollowsTheAuthenticatedIdentity) {
+  Match m(two_armies(), small_config(), "m1");
+  Outbox out;
+  protocol::JoinRequest alice = join_request(1, "alice");
+  alice.identity = "player-alice";
+  m.inputs().push(std::move(alice));
+  m.inputs().push(join_request(2, "anon"));
+  m.tick(out);
+  ASSERT_EQ(out.join_replies.size(), 2u);
+  EXPECT_EQ(out.join_replies[0].snapshot_partition, "throng_p_player-alice_1");
+  EXPECT_EQ(out.join_replies[1].snapshot_partition, "c2");
+}
+
 TEST(MatchJoin, TakeoverSetsPlayerParamsAndLeaveRestoresThem) {
   Match m(two_armies(), small_config(), "m1");
   Outbox out;

@@ -1,9 +1,10 @@
 #pragma once
-// A version 1 match checkpoint made from a version 2 one, as earlier builds wrote them (logs of
+// A version 1 match checkpoint made from a version 3 one, as earlier builds wrote them (logs of
 // those builds hold such keyframes): server/match/src/CHECKPOINT.md, "Version 1". Shared by the
 // match checkpoint tests and the matchlog keyframe tests.
 #include <cstdint>
 #include <cstring>
+#include <span>
 #include <vector>
 
 #include "throng/core/byte_io.h"
@@ -12,9 +13,32 @@
 
 namespace throng::test {
 
-// A version 1 checkpoint made from a version 2 one (CHECKPOINT.md, "Version 1"): one config hash
+// The match section of a version 3 checkpoint as version 2 wrote it (CHECKPOINT.md, "Version 2"):
+// without the owners' trailer and the last reject counter (foreign_participant, which must be 0).
+inline std::vector<std::uint8_t> match_section_v2(std::span<const std::uint8_t> m) {
+  std::uint32_t n_reasons = 0, n_clients = 0;
+  std::memcpy(&n_reasons, m.data() + 2, 4);
+  std::memcpy(&n_clients, m.data() + m.size() - 4, 4);
+  std::vector<std::uint8_t> out;
+  out.reserve(m.size());
+  // Byte loops rather than range inserts: GCC 12 reports a false array-bounds error on those.
+  const auto append = [&out](const std::uint8_t* b, const std::uint8_t* e) {
+    for (; b != e; ++b) out.push_back(*b);
+  };
+  const std::uint32_t fewer = n_reasons - 1;
+  std::uint8_t count[4];
+  std::memcpy(count, &fewer, 4);
+  append(m.data(), m.data() + 2);
+  append(count, count + 4);
+  append(m.data() + 6, m.data() + 6 + 8 * fewer);
+  append(m.data() + 6 + 8 * n_reasons, m.data() + m.size() - 4 - 12 * n_clients);
+  return out;
+}
+
+// A version 1 checkpoint made from a version 3 one (CHECKPOINT.md, "Version 1"): one config hash
 // over the config fields and then the interest fields (FNV-1a over their bytes, in field order),
-// no interest hash, and no length prefixes on the match and snapshot sections.
+// no interest hash, no length prefixes on the match and snapshot sections, and the match section
+// as version 2 had it.
 inline std::vector<std::uint8_t> as_version_1(const std::vector<std::uint8_t>& v2, const match::MatchConfig& c) {
   std::uint64_t h = 14695981039346656037ull;
   const auto add = [&h](const auto& v) {
@@ -39,7 +63,8 @@ inline std::vector<std::uint8_t> as_version_1(const std::vector<std::uint8_t>& v
   bytes(v2.data() + 32, 12);                        // body count, tick
   w.put(static_cast<std::uint32_t>(s.world.size()));
   bytes(s.world.data(), s.world.size());
-  bytes(s.match_state.data(), s.match_state.size());
+  const std::vector<std::uint8_t> match_v2 = match_section_v2(s.match_state);
+  bytes(match_v2.data(), match_v2.size());
   bytes(s.snapshot_baselines.data(), s.snapshot_baselines.size());
   w.finish();
   return v1;

@@ -201,16 +201,16 @@ TEST(Damage, HeaderProblemsAreClearErrors) {
   EXPECT_NE(open_error(p).find("not a Throng match log"), std::string::npos) << open_error(p);
 
   bytes = good;
-  bytes[8] = 3;  // format version 3
+  bytes[8] = 4;  // format version 4
   test::write_bytes(p, bytes, bytes.size());
-  EXPECT_NE(open_error(p).find("format version 3 is not supported (this build reads format versions 1..2)"), std::string::npos)
+  EXPECT_NE(open_error(p).find("format version 4 is not supported (this build reads format versions 1..3)"), std::string::npos)
       << open_error(p);
   bytes[8] = 0;
   test::write_bytes(p, bytes, bytes.size());
   EXPECT_NE(open_error(p).find("format version 0 is not supported"), std::string::npos) << open_error(p);
-  bytes[8] = 1;  // a v2 header in a v1 preamble
+  bytes[8] = 1;  // a v3 header in a v1 preamble
   test::write_bytes(p, bytes, bytes.size());
-  EXPECT_NE(open_error(p).find("format version 1 in the preamble, 2 in the header"), std::string::npos) << open_error(p);
+  EXPECT_NE(open_error(p).find("format version 1 in the preamble, 3 in the header"), std::string::npos) << open_error(p);
 
   const auto recs = walk(good);
   test::write_bytes(p, good, recs.front().end - 10);
@@ -242,14 +242,15 @@ std::vector<std::uint8_t> framed(std::uint8_t type, const std::vector<std::uint8
 
 TEST(Damage, FormatVersionOneLogsAreStillRead) {
   // A version 1 file: preamble and header say 1, tick blocks as today, index records without the
-  // keyframe part, no keyframes.
+  // keyframe part, no keyframes. Ticks carry parameter changes only: their layout is the same in
+  // every version (joins and commands gained senders in version 3).
   const auto dir = test::test_dir();
-  const auto ticks = test::write_random_log(dir / "v2.tlog", 40, {}, 5);
+  const auto ticks = test::write_random_log(dir / "v2.tlog", 40, {}, 5, /*params_only=*/true);
   const auto v2 = test::read_bytes(dir / "v2.tlog");
   const auto recs = walk(v2);
   std::string text(v2.begin() + static_cast<std::ptrdiff_t>(recs.front().start + 5),
                    v2.begin() + static_cast<std::ptrdiff_t>(recs.front().end - 4));
-  const auto at = text.find("\"format_version\":2");
+  const auto at = text.find("\"format_version\":3");
   ASSERT_NE(at, std::string::npos);
   text[at + 17] = '1';
   const std::string kf_field = ",\"keyframe_interval_ticks\":60";  // v1 writers did not know it
@@ -278,7 +279,10 @@ TEST(Damage, FormatVersionOneLogsAreStillRead) {
     EXPECT_TRUE(r.scan().keyframes.empty());
     EXPECT_EQ(r.header().writer.keyframe_interval_ticks, 0u);
     TickRecord t;
-    for (std::size_t i = 0; r.next(t); ++i) ASSERT_EQ(t.state_hash, ticks[i].state_hash);
+    for (std::size_t i = 0; r.next(t); ++i) {
+      ASSERT_EQ(t.state_hash, ticks[i].state_hash);
+      test::expect_same_inputs(t.inputs, ticks[i].inputs, t.tick);
+    }
   }
   // A keyframe record has no place in a version 1 log.
   std::vector<std::uint8_t> kf_payload(13, 0);

@@ -35,7 +35,7 @@ TEST(Keyframes, WrittenAfterTheirTickAndIndexed) {
   MatchLogReader r(path.string());
   const LogScan& s = r.scan();
   ASSERT_EQ(s.end, LogEnd::closed) << s.problem;
-  EXPECT_EQ(s.format_version, 2u);
+  EXPECT_EQ(s.format_version, kFormatVersion);
   EXPECT_EQ(r.header().writer.keyframe_interval_ticks, 60u);
   ASSERT_EQ(s.keyframes.size(), 3u);
   std::vector<std::uint8_t> bytes;

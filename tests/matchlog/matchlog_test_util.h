@@ -88,6 +88,8 @@ inline match::TickInputs random_inputs(std::mt19937_64& rng) {
     j.name = any_string(70);
     j.leave = rng() % 2 == 0;
     j.client_id = static_cast<std::uint32_t>(rng());
+    for (auto& b : j.sender.bytes) b = static_cast<std::uint8_t>(rng());
+    j.identity = any_string(40);
     in.joins.push_back(j);
   }
   for (std::uint64_t n = rng() % 60; n > 0; --n) {
@@ -103,6 +105,7 @@ inline match::TickInputs random_inputs(std::mt19937_64& rng) {
     c.camera_x = any_float();
     c.camera_y = any_float();
     c.camera_z = any_float();
+    for (auto& b : c.sender.bytes) b = static_cast<std::uint8_t>(rng());
     in.commands.push_back(c);
   }
   for (std::uint64_t n = rng() % 2; n > 0; --n) {
@@ -129,6 +132,8 @@ inline void expect_same_inputs(const match::TickInputs& a, const match::TickInpu
     ASSERT_EQ(x.name, y.name);
     ASSERT_EQ(x.leave, y.leave);
     ASSERT_EQ(x.client_id, y.client_id);
+    ASSERT_EQ(x.sender, y.sender);
+    ASSERT_EQ(x.identity, y.identity);
   }
   for (std::size_t i = 0; i < a.commands.size(); ++i) {
     const auto &x = a.commands[i], &y = b.commands[i];
@@ -143,6 +148,7 @@ inline void expect_same_inputs(const match::TickInputs& a, const match::TickInpu
     ASSERT_EQ(bits(x.camera_x), bits(y.camera_x));
     ASSERT_EQ(bits(x.camera_y), bits(y.camera_y));
     ASSERT_EQ(bits(x.camera_z), bits(y.camera_z));
+    ASSERT_EQ(x.sender, y.sender);
   }
   for (std::size_t i = 0; i < a.params.size(); ++i) {
     const auto &x = a.params[i], &y = b.params[i];
@@ -155,8 +161,10 @@ inline void expect_same_inputs(const match::TickInputs& a, const match::TickInpu
 }
 
 // Writes `ticks` ticks of random inputs (seeded) with hash = tick * constant; returns the inputs.
+// params_only: the ticks keep only their parameter changes (a layout every format version shares).
 inline std::vector<TickRecord> write_random_log(const std::filesystem::path& path, std::uint64_t ticks,
-                                                WriterOptions options = {}, std::uint64_t seed = 1) {
+                                                WriterOptions options = {}, std::uint64_t seed = 1,
+                                                bool params_only = false) {
   std::mt19937_64 rng(seed);
   std::vector<TickRecord> all;
   MatchLogWriter w(path.string(), options);
@@ -170,6 +178,10 @@ inline std::vector<TickRecord> write_random_log(const std::filesystem::path& pat
     TickRecord r;
     r.tick = t;
     r.inputs = random_inputs(rng);
+    if (params_only) {
+      r.inputs.joins.clear();
+      r.inputs.commands.clear();
+    }
     r.state_hash = t * 0x9E3779B97F4A7C15ull;
     r.flags = t == ticks ? kTickShutdownBegan : 0;
     w.append_tick(r.tick, r.inputs, r.state_hash, r.flags);

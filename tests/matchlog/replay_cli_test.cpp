@@ -178,7 +178,7 @@ TEST_F(ReplayCli, KeyframesInfoSeekAndParallelVerify) {
   test::write_played(kf, played_->ticks, test::match_header(), {}, 0, &played_->keyframes);  // one keyframe: tick 60
   CliRun r = run("info '" + kf.string() + "'", dir_);
   EXPECT_EQ(r.code, 0) << r.err;
-  EXPECT_TRUE(has(r.out, "format     version 2")) << r.out;
+  EXPECT_TRUE(has(r.out, "format     version 3")) << r.out;
   EXPECT_TRUE(has(r.out, "keyframes  1 world keyframes, every 60 ticks (ticks 60..60)")) << r.out;
   r = run("info --json '" + kf.string() + "'", dir_);
   auto j = nlohmann::json::parse(r.out);

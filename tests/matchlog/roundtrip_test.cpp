@@ -8,6 +8,7 @@
 #include "throng/matchlog/crc32c.h"
 #include "throng/matchlog/log_header.h"
 #include "throng/matchlog/reader.h"
+#include "throng/matchlog/tick_record.h"
 
 namespace throng::matchlog {
 namespace {
@@ -162,6 +163,32 @@ TEST(RoundTrip, FileBasedParamsArePutInlineAndSimulateTheSame) {
   scene::SceneDef missing = s;
   missing.params.file = data + "no_such_file.json";
   EXPECT_THROW(self_contained_scene(missing), LogError);
+}
+
+// A tick entry as format version 2 wrote it (no senders): version 2 reads it with zero senders and
+// an empty identity; read as version 3 it runs past its end (the layouts really differ).
+TEST(RoundTrip, VersionTwoTickEntriesDecodeWithoutSenders) {
+  std::vector<std::uint8_t> b;
+  auto u8 = [&](std::uint8_t v) { b.push_back(v); };
+  auto u32 = [&](std::uint32_t v) { for (int k = 0; k < 4; ++k) u8(static_cast<std::uint8_t>(v >> (8 * k))); };
+  auto u64 = [&](std::uint64_t v) { u32(static_cast<std::uint32_t>(v)); u32(static_cast<std::uint32_t>(v >> 32)); };
+  u64(7); u64(0xABCDull); u8(0); u32(1); u32(1); u32(0);      // tick 7, hash, flags, 1 join, 1 command
+  u64(99); u32(1); u8(0); u32(0); u32(3); b.insert(b.end(), {'b', 'o', 't'});  // join: nonce 99 "bot"
+  u32(1); u32(1234); u32(5); u64(6);                          // command: client 1, entity 1234, seq 5
+  for (int k = 0; k < 7; ++k) u32(0);                         // move, facing, actions, camera
+  TickRecord t;
+  std::size_t pos = 0;
+  decode_tick(b, pos, t, 2);
+  EXPECT_EQ(pos, b.size());
+  ASSERT_EQ(t.inputs.joins.size(), 1u);
+  ASSERT_EQ(t.inputs.commands.size(), 1u);
+  EXPECT_EQ(t.inputs.joins[0].name, "bot");
+  EXPECT_EQ(t.inputs.joins[0].sender, protocol::ParticipantKey{});
+  EXPECT_TRUE(t.inputs.joins[0].identity.empty());
+  EXPECT_EQ(t.inputs.commands[0].entity, 1234u);
+  EXPECT_EQ(t.inputs.commands[0].sender, protocol::ParticipantKey{});
+  pos = 0;
+  EXPECT_THROW(decode_tick(b, pos, t, 3), LogError);
 }
 
 TEST(RoundTrip, UtcFormatIsFixedWidth) {

@@ -42,7 +42,7 @@ inline std::unique_ptr<test::ChildProcess> start_player(const std::filesystem::p
 // A client on its own loopback participant; records what it receives, waits are bounded.
 class Watcher {
  public:
-  explicit Watcher(int domain) : transport_(protocol::TransportOptions{domain, true, "throng-play-test"}) {
+  explicit Watcher(int domain) : transport_(protocol::TransportOptions{domain, true, "throng-play-test", std::nullopt}) {
     transport_.start(protocol::ClientTransport::Handlers{
         [this](protocol::MatchInfo&& m) { locked([&] { infos_.push_back(std::move(m)); }); },
         [this](protocol::JoinReply&& r) { locked([&] { replies_.push_back(std::move(r)); }); },

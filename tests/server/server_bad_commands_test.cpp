@@ -65,6 +65,12 @@ TEST(ServerBadCommands, EveryBadCommandIsRejectedByReasonAndChangesNothing) {
     c = valid(reply, 107); c.entity = reply.entity + 1; send(c);  // not_your_entity
     c = valid(reply, 1);                          send(c);   // duplicate_sequence
     c = valid(reply, 0);                          send(c);   // stale_sequence
+    // foreign_participant: mallory's own id, entity and a fresh sequence, from another participant.
+    TestClient stranger(145);
+    ASSERT_TRUE(stranger.transport().wait_for_server(10s));
+    c = valid(reply, 108); c.move_x = 1.0f;
+    stranger.transport().send_command(c);
+    ++sent;
     std::this_thread::sleep_for(300ms);
     server.stop();
     EXPECT_EQ(server.exit_code(), 0);
@@ -85,6 +91,7 @@ TEST(ServerBadCommands, EveryBadCommandIsRejectedByReasonAndChangesNothing) {
   EXPECT_EQ(by["not_your_entity"], 1);
   EXPECT_EQ(by["duplicate_sequence"], 1);
   EXPECT_EQ(by["stale_sequence"], 1);
+  EXPECT_EQ(by["foreign_participant"], 1);
   EXPECT_EQ(summary["commands_accepted"], 1);
   EXPECT_EQ(summary["commands_accepted"].get<std::uint64_t>() + summary["commands_rejected"].get<std::uint64_t>(), sent);
 

@@ -56,7 +56,7 @@ class ServerThread {
 // One client on its own participant; records everything it receives.
 class TestClient {
  public:
-  explicit TestClient(int domain) : transport_(protocol::TransportOptions{domain, true, "throng-test-client"}) {
+  explicit TestClient(int domain) : transport_(protocol::TransportOptions{domain, true, "throng-test-client", std::nullopt}) {
     transport_.start(protocol::ClientTransport::Handlers{
         [this](protocol::MatchInfo&& m) { locked([&] { match_infos_.push_back(std::move(m)); }); },
         [this](protocol::JoinReply&& r) { locked([&] { replies_.push_back(std::move(r)); }); },

@@ -142,7 +142,7 @@ TEST(ViewE2E, PageDrawsTheMatchAndKeysMoveTheEntityOnTheServer) {
 
   // Contacts overlay. A test participant reads the same samples the server writes for the viewer.
   ContactsSpy spy;
-  protocol::ClientTransport spy_transport(protocol::TransportOptions{kDomain, true, "view-e2e-spy"});
+  protocol::ClientTransport spy_transport(protocol::TransportOptions{kDomain, true, "view-e2e-spy", std::nullopt});
   protocol::ClientTransport::Handlers spy_handlers;
   spy_handlers.on_join_reply = [&spy](protocol::JoinReply&& r) {
     std::lock_guard lock(spy.mutex);

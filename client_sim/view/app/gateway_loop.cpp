@@ -14,6 +14,7 @@
 #include "display_host.h"
 #include "page_server.h"
 #include "throng/protocol/dds_transport.h"
+#include "throng/protocol/security.h"
 #include "throng/view/gateway.h"
 #include "throng/view/page_input.h"
 #include "throng/view/web_server.h"
@@ -97,6 +98,7 @@ int run_gateway(const ViewOptions& o, const std::atomic<bool>& stop) {
     t.domain_id = o.domain;
     t.loopback_only = o.loopback;
     t.participant_name = o.name;
+    if (!o.security_dir.empty()) t.security = protocol::security_files(o.security_dir, o.identity);
     protocol::ClientTransport transport(t);
     protocol::ClientTransport::Handlers h;
     h.on_match_info = [&inbox](protocol::MatchInfo&& info) {

@@ -14,6 +14,8 @@ namespace throng::view {
 struct ViewOptions {
   int domain = 0;
   bool loopback = true;
+  std::string security_dir;  // --security DIR (empty: off)
+  std::string identity;      // --identity NAME: the player (or operator) the viewer authenticates as
   std::string bind = "127.0.0.1";
   int port = 8088;
   std::string name = "throng-view";

@@ -61,11 +61,18 @@ int main(int argc, char** argv) {
   auto* join_timeout = app.add_option("--join-timeout", o.join_timeout_s, "seconds to wait for the join reply")->check(CLI::PositiveNumber);
   app.add_flag("--loopback,!--no-loopback", o.loopback,
                "DDS on 127.0.0.1 only (default) or Fast DDS's default transports and discovery");
+  auto* security = app.add_option("--security", o.security_dir,
+                                  "DDS Security: directory made by throng-pki; needs --identity")
+                      ->check(CLI::ExistingDirectory);
+  auto* identity = app.add_option("--identity", o.identity,
+                                  "with --security: the player (throng-pki client DIR NAME) or 'operator' to view as")
+                       ->needs(security);
+  security->needs(identity);
   app.add_option("--web-root", o.web_root,
                  "serve the page from this folder instead of the copy built into the binary (for editing)")
       ->check(CLI::ExistingDirectory);
   app.add_flag("--quiet,-q", o.quiet, "no status line every 10 s");
-  for (auto* live_only : {domain, name, server_wait, join_timeout}) log->excludes(live_only);
+  for (auto* live_only : {domain, name, server_wait, join_timeout, security, identity}) log->excludes(live_only);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -27,13 +27,13 @@ struct PartitionSubscription {
   std::mutex handler_mutex;
   Handler handler;
   std::string partition;
-  TakeAllListener<Idl> listener{[this](Idl&& s, std::size_t bytes) {
+  TakeAllListener<Idl> listener{[this](Idl&& s, const SampleMeta& meta) {
     Handler h;
     {
       std::lock_guard<std::mutex> lock(handler_mutex);
       h = handler;
     }
-    if (h) h(from_idl(std::move(s)), bytes);
+    if (h) h(from_idl(std::move(s)), meta.wire_bytes);
   }};
   dds::Subscriber* subscriber = nullptr;  // in the client's partition; owns the reader
 };
@@ -124,7 +124,7 @@ struct ClientTransport::Impl {
 
   template <class Idl, class Message>
   static std::unique_ptr<TakeAllListener<Idl>> forward_to(std::function<void(Message&&)> handler) {
-    return std::make_unique<TakeAllListener<Idl>>([h = std::move(handler)](Idl&& sample, std::size_t) {
+    return std::make_unique<TakeAllListener<Idl>>([h = std::move(handler)](Idl&& sample, const SampleMeta&) {
       if (h) h(from_idl(std::move(sample)));
     });
   }

@@ -24,13 +24,27 @@
 
 namespace throng::protocol::dds_detail {
 
-// Takes every available sample on a DDS listener thread and passes it (with its payload size) to
-// `sink`. A throwing sink must not unwind into Fast DDS: the error is reported and the next sample
-// is delivered.
+// What a reader knows of a sample besides its content.
+struct SampleMeta {
+  std::size_t wire_bytes = 0;  // serialized payload size
+  ParticipantKey writer;       // GUID prefix of the writer: the participant that sent it
+};
+
+inline ParticipantKey participant_key(const eprosima::fastdds::dds::SampleInfo& info) {
+  ParticipantKey key;
+  const auto& prefix = info.sample_identity.writer_guid().guidPrefix.value;
+  static_assert(sizeof(prefix) == sizeof(key.bytes));
+  for (std::size_t i = 0; i < key.bytes.size(); ++i) key.bytes[i] = prefix[i];
+  return key;
+}
+
+// Takes every available sample on a DDS listener thread and passes it (with its payload size and
+// writer) to `sink`. A throwing sink must not unwind into Fast DDS: the error is reported and the
+// next sample is delivered.
 template <class Idl>
 class TakeAllListener final : public eprosima::fastdds::dds::DataReaderListener {
  public:
-  using Sink = std::function<void(Idl&&, std::size_t wire_bytes)>;
+  using Sink = std::function<void(Idl&&, const SampleMeta&)>;
   explicit TakeAllListener(Sink sink) : sink_(std::move(sink)) {}
 
   void on_data_available(eprosima::fastdds::dds::DataReader* reader) override {
@@ -39,7 +53,7 @@ class TakeAllListener final : public eprosima::fastdds::dds::DataReaderListener 
     while (reader->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
       if (!info.valid_data) continue;  // dispose/unregister notifications carry no data
       try {
-        sink_(std::move(sample), last_deserialized_bytes());
+        sink_(std::move(sample), SampleMeta{last_deserialized_bytes(), participant_key(info)});
       } catch (const std::exception& e) {
         std::fprintf(stderr, "throng protocol: handler for %s threw: %s\n",
                      reader->get_topicdescription()->get_name().c_str(), e.what());

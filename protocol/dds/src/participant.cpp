@@ -31,8 +31,42 @@ void destroy(dds::DomainParticipant* participant) {
 
 }  // namespace
 
+void IdentityDirectory::on_participant_discovery(dds::DomainParticipant*,
+                                                 eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) {
+  using Status = eprosima::fastrtps::rtps::ParticipantDiscoveryInfo::DISCOVERY_STATUS;
+  ParticipantKey key;
+  const auto& prefix = info.info.m_guid.guidPrefix.value;
+  for (std::size_t i = 0; i < key.bytes.size(); ++i) key.bytes[i] = prefix[i];
+  std::unique_lock lock(mutex_);
+  if (info.status == Status::REMOVED_PARTICIPANT || info.status == Status::DROPPED_PARTICIPANT) {
+    names_.erase(key);
+    return;
+  }
+  for (const auto& property : info.info.identity_token_.properties()) {
+    if (property.name() != "dds.cert.sn") continue;
+    const std::string cn = common_name(property.value());
+    if (!cn.empty()) names_[key] = cn;
+  }
+}
+
+std::string IdentityDirectory::identity_of(const ParticipantKey& key) const {
+  std::shared_lock lock(mutex_);
+  const auto it = names_.find(key);
+  return it == names_.end() ? std::string() : it->second;
+}
+
+std::string common_name(const std::string& subject) {
+  for (std::size_t at = subject.find("CN="); at != std::string::npos; at = subject.find("CN=", at + 1)) {
+    if (at != 0 && subject[at - 1] != ',' && subject[at - 1] != '/' && subject[at - 1] != ' ') continue;
+    const std::size_t begin = at + 3;
+    const std::size_t end = subject.find_first_of(",/+", begin);
+    return subject.substr(begin, end == std::string::npos ? std::string::npos : end - begin);
+  }
+  return {};
+}
+
 Participant::Participant(const TransportOptions& options)
-    : domain_id_(options.domain_id), participant_(create_participant(options)) {
+    : domain_id_(options.domain_id), participant_(create_participant(options, identities_.get())) {
   try {
     const std::string w = where();
     topics_.match_info = make_topic<v1::MatchInfoPubSubType>(*participant_, kTopicMatchInfo, w);
@@ -55,6 +89,8 @@ Participant::Participant(const TransportOptions& options)
 }
 
 Participant::~Participant() { destroy(participant_); }
+
+std::string Participant::identity_of(const ParticipantKey& key) const { return identities_->identity_of(key); }
 
 std::string Participant::where() const { return "domain " + std::to_string(domain_id_) + ": "; }
 

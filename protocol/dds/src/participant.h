@@ -3,6 +3,7 @@
 // that create endpoints from the XML profiles and throw TransportError naming what failed.
 // Deleting it deletes every entity created through it (listeners must outlive it).
 #include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/DataWriterListener.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
@@ -10,6 +11,9 @@
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
+#include <map>
+#include <memory>
+#include <shared_mutex>
 #include <string>
 
 #include "qos.h"
@@ -28,6 +32,24 @@ struct Topics {
   eprosima::fastdds::dds::Topic* server_stats = nullptr;
   eprosima::fastdds::dds::Topic* contacts = nullptr;
 };
+
+// Remembers the authenticated identity of each remote participant (DDS Security only): Fast DDS
+// reports a secure participant as discovered only once its authentication succeeded, with the
+// identity token whose dds.cert.sn is its certificate's subject name.
+class IdentityDirectory final : public eprosima::fastdds::dds::DomainParticipantListener {
+ public:
+  void on_participant_discovery(eprosima::fastdds::dds::DomainParticipant* participant,
+                                eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override;
+  std::string identity_of(const ParticipantKey& key) const;
+
+ private:
+  mutable std::shared_mutex mutex_;
+  std::map<ParticipantKey, std::string> names_;
+};
+
+// The common name (CN) in a subject name as OpenSSL prints it ("CN=x,O=y" or "/O=y/CN=x"); empty
+// when there is none.
+std::string common_name(const std::string& subject);
 
 class Participant {
  public:
@@ -54,6 +76,11 @@ class Participant {
                                                     eprosima::fastdds::dds::Topic& topic, const char* profile,
                                                     eprosima::fastdds::dds::DataReaderListener* listener);
 
+  // The authenticated identity (certificate common name) of the remote participant with this GUID
+  // prefix, as DDS Security reported it at discovery; empty without Security or for a participant
+  // not (or no longer) discovered.
+  std::string identity_of(const ParticipantKey& key) const;
+
   // Deletes a partition publisher/subscriber and the endpoints in it.
   void delete_publisher(eprosima::fastdds::dds::Publisher& publisher);
   void delete_subscriber(eprosima::fastdds::dds::Subscriber& subscriber);
@@ -62,6 +89,8 @@ class Participant {
   std::string where() const;
 
   int domain_id_ = 0;
+  // Before the participant: it calls the directory until it is deleted.
+  std::unique_ptr<IdentityDirectory> identities_ = std::make_unique<IdentityDirectory>();
   eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;

@@ -2,6 +2,7 @@
 
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
+#include <filesystem>
 #include <mutex>
 
 #include "embedded_profiles.h"
@@ -30,9 +31,33 @@ std::string profile_error(const char* what, const char* profile) {
          kProfilesSourcePath + (load_profiles_once() ? "" : " (the text did not load; Fast DDS logged why)");
 }
 
+// The builtin plugins, configured with participant properties (Fast DDS's documented names).
+void add_security(dds::DomainParticipantQos& qos, const SecurityFiles& f, const std::string& where) {
+  const std::pair<const char*, const std::string*> files[] = {
+      {"identity CA", &f.identity_ca}, {"permissions CA", &f.permissions_ca}, {"governance", &f.governance},
+      {"certificate", &f.certificate}, {"private key", &f.private_key},     {"permissions", &f.permissions}};
+  for (const auto& [what, path] : files) {
+    std::error_code ec;
+    if (path->empty() || !std::filesystem::is_regular_file(*path, ec))
+      throw TransportError(where + "DDS Security " + what + " file '" + *path + "' does not exist");
+  }
+  auto& props = qos.properties().properties();
+  const auto set = [&props](const char* name, const std::string& value) { props.emplace_back(name, value); };
+  const auto file = [](const std::string& path) { return "file://" + std::filesystem::absolute(path).string(); };
+  set("dds.sec.auth.plugin", "builtin.PKI-DH");
+  set("dds.sec.auth.builtin.PKI-DH.identity_ca", file(f.identity_ca));
+  set("dds.sec.auth.builtin.PKI-DH.identity_certificate", file(f.certificate));
+  set("dds.sec.auth.builtin.PKI-DH.private_key", file(f.private_key));
+  set("dds.sec.access.plugin", "builtin.Access-Permissions");
+  set("dds.sec.access.builtin.Access-Permissions.permissions_ca", file(f.permissions_ca));
+  set("dds.sec.access.builtin.Access-Permissions.governance", file(f.governance));
+  set("dds.sec.access.builtin.Access-Permissions.permissions", file(f.permissions));
+  set("dds.sec.crypto.plugin", "builtin.AES-GCM-GMAC");
+}
+
 }  // namespace
 
-dds::DomainParticipant* create_participant(const TransportOptions& options) {
+dds::DomainParticipant* create_participant(const TransportOptions& options, dds::DomainParticipantListener* listener) {
   const std::string where = "cannot create participant '" + options.participant_name + "' on domain " +
                             std::to_string(options.domain_id) + ": ";
   if (options.domain_id < 0 || options.domain_id > kMaxDomainId)
@@ -45,11 +70,16 @@ dds::DomainParticipant* create_participant(const TransportOptions& options) {
       factory->get_participant_qos_from_profile(kLoopbackParticipantProfile, qos) != ReturnCode_t::RETCODE_OK)
     throw TransportError(where + profile_error("participant", kLoopbackParticipantProfile));
   qos.name(options.participant_name);
+  if (options.security) add_security(qos, *options.security, where);
 
-  dds::DomainParticipant* participant =
-      factory->create_participant(static_cast<dds::DomainId_t>(options.domain_id), qos);
+  dds::DomainParticipant* participant = factory->create_participant(
+      static_cast<dds::DomainId_t>(options.domain_id), qos, listener, dds::StatusMask::none());
   if (participant == nullptr)
-    throw TransportError(where + "Fast DDS refused (ports in use or transports misconfigured; see its log)");
+    throw TransportError(where + (options.security ? "Fast DDS refused (a security file not accepted: a certificate "
+                                                     "not signed by the identity CA or expired, a permissions or "
+                                                     "governance document not signed by the permissions CA or "
+                                                     "malformed; Fast DDS logged which)"
+                                                   : "Fast DDS refused (ports in use or transports misconfigured; see its log)"));
   return participant;
 }
 

@@ -34,7 +34,11 @@ inline constexpr int kMaxDomainId = 232;  // RTPS port mapping limit with Fast D
 
 // Creates (and enables) a participant for the options. Throws TransportError naming the domain and
 // the reason: domain id out of range, profiles not loadable, participant creation failed.
-eprosima::fastdds::dds::DomainParticipant* create_participant(const TransportOptions& options);
+// With options.security, the participant runs Fast DDS's builtin security plugins on those files
+// (each checked to exist first, so a typo is named instead of a plugin failure). `listener` (may be
+// null) hears participant discovery.
+eprosima::fastdds::dds::DomainParticipant* create_participant(const TransportOptions& options,
+                                                              eprosima::fastdds::dds::DomainParticipantListener* listener);
 
 eprosima::fastdds::dds::DataWriterQos writer_qos(eprosima::fastdds::dds::Publisher& publisher,
                                                  const char* profile);

@@ -75,17 +75,29 @@ void ServerTransport::start(Handlers handlers) {
   if (impl_->started) throw TransportError("ServerTransport::start called twice");
   Impl& s = *impl_;
   // Handlers may be empty: the topic is then read and dropped, so writers still match.
+  // The sender comes from the sample's metadata, never from its content: that is what binds a
+  // client id to the participant that joined it.
   s.join_listener = std::make_unique<TakeAllListener<v1::JoinRequest>>(
-      [h = std::move(handlers.on_join)](v1::JoinRequest&& r, std::size_t) {
-        if (h) h(from_idl(std::move(r)));
+      [&s, h = std::move(handlers.on_join)](v1::JoinRequest&& r, const SampleMeta& meta) {
+        if (!h) return;
+        JoinRequest request = from_idl(std::move(r));
+        request.sender = meta.writer;
+        request.identity = s.participant.identity_of(meta.writer);
+        h(std::move(request));
       });
   s.command_listener = std::make_unique<TakeAllListener<v1::Command>>(
-      [h = std::move(handlers.on_command)](v1::Command&& c, std::size_t) {
-        if (h) h(from_idl(std::move(c)));
+      [h = std::move(handlers.on_command)](v1::Command&& c, const SampleMeta& meta) {
+        if (!h) return;
+        Command command = from_idl(std::move(c));
+        command.sender = meta.writer;
+        h(std::move(command));
       });
   s.param_listener = std::make_unique<TakeAllListener<v1::ParamUpdate>>(
-      [h = std::move(handlers.on_param_update)](v1::ParamUpdate&& u, std::size_t) {
-        if (h) h(from_idl(std::move(u)));
+      [h = std::move(handlers.on_param_update)](v1::ParamUpdate&& u, const SampleMeta& meta) {
+        if (!h) return;
+        ParamUpdate update = from_idl(std::move(u));
+        update.sender = meta.writer;
+        h(std::move(update));
       });
   const Topics& t = s.participant.topics();
   dds::Subscriber& sub = s.participant.subscriber();

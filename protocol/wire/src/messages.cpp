@@ -10,6 +10,7 @@ const char* to_string(JoinResult r) {
     case JoinResult::shutting_down: return "shutting_down";
     case JoinResult::bad_request: return "bad_request";
     case JoinResult::left: return "left";
+    case JoinResult::foreign_participant: return "foreign_participant";
   }
   return "unknown";
 }

@@ -15,6 +15,7 @@
 #include "throng/match/match.h"
 #include "throng/matchlog/writer.h"
 #include "throng/protocol/dds_transport.h"
+#include "throng/protocol/security.h"
 #include "throng/scene/builtin_scenes.h"
 #include "throng/scene/scale.h"
 #include "throng/server/client_ledger.h"
@@ -44,6 +45,12 @@ scene::SceneDef load_scaled_scene(const ServerOptions& o) {
   scene::SceneDef s = scene::load_scene(o.scene);
   if (o.npcs > 0 && o.npcs != s.agent_count()) s = scene::scale_scene(s, o.npcs);
   return s;
+}
+
+protocol::TransportOptions transport_options(const ServerOptions& o) {
+  protocol::TransportOptions t{o.domain, o.loopback_only, "throng-server", std::nullopt};
+  if (!o.security_dir.empty()) t.security = protocol::security_files(o.security_dir, protocol::kServerIdentity);
+  return t;
 }
 
 std::string make_match_id(const std::string& scene_name) {
@@ -81,6 +88,10 @@ struct MatchServer::Impl {
   double wall_seconds = 0.0;
   std::uint64_t snapshot_bytes_at_last_progress = 0;  // for the progress line's rate
   std::uint64_t push_events_total = 0;
+  std::uint64_t joins_foreign_total = 0;
+  // Refused on DDS listener threads (the parameter-change gate), read by the tick thread.
+  std::atomic<std::uint64_t> param_not_operator_total{0};
+  bool operators_allowed = false;  // --security (access control decides) or --allow-anonymous-operator
   std::uint64_t poses_total = 0;
   double view_error_max_m = 0.0;
   bool finished = false;
@@ -90,7 +101,8 @@ struct MatchServer::Impl {
       : options(o),
         scene(load_scaled_scene(o)),
         match(scene, o.match, make_match_id(scene.name)),
-        transport(protocol::TransportOptions{o.domain, o.loopback_only, "throng-server"}) {
+        transport(transport_options(o)),
+        operators_allowed(o.allow_anonymous_operator || !o.security_dir.empty()) {
     if (o.admin_port >= 0) {
       admin::AdminServerOptions ao;
       ao.bind_address = o.admin_bind;
@@ -109,6 +121,7 @@ struct MatchServer::Impl {
     }
   }
 
+  void on_param_update(protocol::ParamUpdate&& u);
   void publish_outbox();
   void publish_stats(const match::TickReport& report);
   void run_tick(Clock::time_point woke);
@@ -116,6 +129,28 @@ struct MatchServer::Impl {
   void check_log();
   void finish_keyframe();
 };
+
+// The operator gate, on a DDS listener thread. With --security only identities granted the
+// operator permission can write ParamUpdate at all (DDS access control refuses other writers), so
+// whatever arrives is an operator's; without Security every participant looks alike, and changes
+// pass only with --allow-anonymous-operator. A refused change never reaches the match (nothing to
+// log, nothing to re-simulate) and is answered at once.
+void MatchServer::Impl::on_param_update(protocol::ParamUpdate&& u) {
+  if (operators_allowed) {
+    match.inputs().push(std::move(u));
+    return;
+  }
+  const std::uint64_t n = ++param_not_operator_total;
+  if (n <= 10 || (n & (n - 1)) == 0)  // the first ten, then at powers of two: a flood must not flood the log
+    spdlog::warn("parameter change {} refused: not an operator (run with --security and an operator identity, or "
+                 "--allow-anonymous-operator for development); {} refused so far",
+                 u.request_id, n);
+  protocol::ParamReply reply;
+  reply.request_id = u.request_id;
+  reply.ok = false;
+  reply.error = "not an operator";
+  transport.publish_param_reply(reply);
+}
 
 // Collects the keyframe the saver thread took after the previous tick and appends it to the log.
 // Must run before anything mutates the match (the save reads it).
@@ -254,6 +289,12 @@ void MatchServer::Impl::run_tick(Clock::time_point woke) {
   metrics.bodies.set(static_cast<double>(match.world().pos_x().size()));
   metrics.joins_accepted.inc(report.joins_accepted);
   metrics.joins_refused.inc(report.joins_refused);
+  metrics.joins_foreign.inc(report.joins_foreign);
+  joins_foreign_total += report.joins_foreign;
+  if (report.joins_foreign > 0)
+    spdlog::warn("{} join/leave request(s) for clients another participant owns ignored (foreign_participant)",
+                 report.joins_foreign);
+  raise_to(metrics.param_not_operator, param_not_operator_total.load());
   metrics.leaves.inc(report.leaves);
   metrics.timeouts.inc(report.timeouts);
   metrics.commands_accepted.inc(report.commands_accepted);
@@ -315,7 +356,7 @@ int MatchServer::run(bool handle_signals) {
   m.transport.start(protocol::ServerTransport::Handlers{
       [&m](protocol::JoinRequest&& r) { m.match.inputs().push(std::move(r)); },
       [&m](protocol::Command&& c) { m.match.inputs().push(std::move(c)); },
-      [&m](protocol::ParamUpdate&& u) { m.match.inputs().push(std::move(u)); },
+      [&m](protocol::ParamUpdate&& u) { m.on_param_update(std::move(u)); },
   });
   m.transport.publish_match_info(m.match.match_info());
   // Publish each snapshot from the worker that built it (the transport is thread-safe), so
@@ -329,6 +370,15 @@ int MatchServer::run(bool handle_signals) {
   const auto end_at = m.options.duration_s > 0
                           ? m.started + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(m.options.duration_s))
                           : Clock::time_point::max();
+  if (!m.options.security_dir.empty())
+    spdlog::info("DDS Security on: identity {}/server; unauthenticated participants are refused, parameter changes "
+                 "only from operator identities", m.options.security_dir);
+  else
+    spdlog::log(m.options.loopback_only ? spdlog::level::info : spdlog::level::warn,
+                "DDS Security off: any participant on the domain can read every snapshot; clients are bound to the "
+                "participant that joined them{}",
+                m.options.allow_anonymous_operator ? ", and ANY participant may change parameters (--allow-anonymous-operator)"
+                                                   : "; parameter changes are refused");
   spdlog::info("match {} on DDS domain {} ({}): scene '{}', {} bodies, {} Hz, up to {} clients{}", m.match.match_info().match_id,
                m.options.domain, m.options.loopback_only ? "127.0.0.1 only" : "default network", m.scene.name,
                m.match.world().pos_x().size(), m.options.match.tick_hz, m.options.match.max_clients,
@@ -394,6 +444,8 @@ nlohmann::json MatchServer::summary() const {
   in.push_events = m.push_events_total;
   in.poses = m.poses_total;
   in.view_error_max_m = m.view_error_max_m;
+  in.joins_foreign = m.joins_foreign_total;
+  in.param_not_operator = m.param_not_operator_total.load();
   in.scene_name = m.scene.name;
   return make_summary(in);
 }

@@ -56,6 +56,14 @@ ParseResult parse_server_options(const std::vector<std::string>& args) {
   app.add_option("--log", o.log_file, "match log file (replay with throng-replay); default logs/<match id>.tlog");
   bool no_log = false;
   app.add_flag("--no-log", no_log, "do not write a match log");
+  app.add_option("--security", o.security_dir,
+                 "DDS Security: directory made by throng-pki (the server identity in DIR/server); only authenticated "
+                 "participants join, traffic is encrypted, and only operator identities may change parameters")
+      ->check(CLI::ExistingDirectory);
+  app.add_flag("--allow-anonymous-operator", o.allow_anonymous_operator,
+               "accept parameter changes (ParamUpdate) from any participant: for development, tests and local tools "
+               "only, never on a reachable network. Without it and without --security every change is refused "
+               "(\"not an operator\")");
   app.add_option("--summary-json", o.summary_json, "write the end-of-match summary to this JSON file");
   app.add_option("--log-level", o.log_level, "trace, debug, info, warn or error")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));

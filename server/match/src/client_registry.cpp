@@ -7,12 +7,18 @@
 
 namespace throng::match {
 
-ClientRecord& ClientRegistry::add(std::uint64_t nonce, std::string name) {
+std::string client_partition(std::uint32_t id, const std::string& identity) {
+  return identity.empty() ? fmt::format("c{}", id) : fmt::format("{}{}_{}", kIdentityPartitionPrefix, identity, id);
+}
+
+ClientRecord& ClientRegistry::add(std::uint64_t nonce, std::string name, const protocol::ParticipantKey& owner,
+                                  const std::string& identity) {
   ClientRecord& r = records_.emplace_back();
   r.id = static_cast<std::uint32_t>(records_.size());
   r.nonce = nonce;
   r.name = std::move(name);
-  r.partition = fmt::format("c{}", r.id);
+  r.owner = owner;
+  r.partition = client_partition(r.id, identity);
   r.connected = true;
   connected_.push_back(r.id);  // ids only grow: stays sorted
   by_nonce_[nonce] = r.id;

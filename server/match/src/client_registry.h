@@ -10,14 +10,23 @@
 
 #include "throng/core/object_id.h"
 #include "throng/core/vec3.h"
+#include "throng/protocol/messages.h"
 
 namespace throng::match {
+
+// Snapshot partitions of clients whose join carried an authenticated identity (DDS Security):
+// throng_p_<identity>_<client id>. A player's permissions grant it throng_p_<its name>_*, which
+// they can name before the join; without an identity the partition is c<client id>.
+inline constexpr const char* kIdentityPartitionPrefix = "throng_p_";
+std::string client_partition(std::uint32_t id, const std::string& identity);
 
 struct ClientRecord {
   std::uint32_t id = 0;
   std::uint64_t nonce = 0;
   std::string name;
   std::string partition;
+  // The participant that joined this client: only it may command the client or make it leave.
+  protocol::ParticipantKey owner;
   ObjectId entity;
   std::uint8_t faction = 0;
   bool connected = false;
@@ -41,8 +50,10 @@ struct ClientRecord {
 
 class ClientRegistry {
  public:
-  // A new connected client with the next id. The reference stays valid (deque).
-  ClientRecord& add(std::uint64_t nonce, std::string name);
+  // A new connected client with the next id, owned by `owner`, its partition named from
+  // `identity` (client_partition). The reference stays valid (deque).
+  ClientRecord& add(std::uint64_t nonce, std::string name, const protocol::ParticipantKey& owner,
+                    const std::string& identity);
   // Any client ever seen (connected or not); nullptr for an id never given out.
   ClientRecord* find(std::uint32_t id);
   const ClientRecord* find(std::uint32_t id) const;

@@ -17,6 +17,7 @@ const char* to_string(RejectReason r) {
     case RejectReason::stale_sequence: return "stale_sequence";
     case RejectReason::duplicate_sequence: return "duplicate_sequence";
     case RejectReason::rate_limited: return "rate_limited";
+    case RejectReason::foreign_participant: return "foreign_participant";
     case RejectReason::count_: break;
   }
   return "unknown";

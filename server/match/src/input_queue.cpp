@@ -23,13 +23,14 @@ std::uint32_t bits(float f) { return std::bit_cast<std::uint32_t>(f); }
 std::uint64_t bits(double d) { return std::bit_cast<std::uint64_t>(d); }
 
 bool join_less(const protocol::JoinRequest& a, const protocol::JoinRequest& b) {
-  return std::tie(a.client_nonce, a.leave, a.client_id, a.protocol_version, a.name) <
-         std::tie(b.client_nonce, b.leave, b.client_id, b.protocol_version, b.name);
+  return std::tie(a.client_nonce, a.leave, a.client_id, a.protocol_version, a.name, a.sender, a.identity) <
+         std::tie(b.client_nonce, b.leave, b.client_id, b.protocol_version, b.name, b.sender, b.identity);
 }
 
 auto command_key(const protocol::Command& c) {
   return std::make_tuple(c.entity, c.sequence, c.client_id, c.last_seen_tick, bits(c.move_x), bits(c.move_y),
-                         bits(c.facing_rad), c.actions, bits(c.camera_x), bits(c.camera_y), bits(c.camera_z));
+                         bits(c.facing_rad), c.actions, bits(c.camera_x), bits(c.camera_y), bits(c.camera_z),
+                         c.sender);
 }
 
 bool command_less(const protocol::Command& a, const protocol::Command& b) { return command_key(a) < command_key(b); }
@@ -37,8 +38,8 @@ bool command_less(const protocol::Command& a, const protocol::Command& b) { retu
 bool param_less(const protocol::ParamUpdate& a, const protocol::ParamUpdate& b) {
   const std::uint64_t va = bits(a.value);
   const std::uint64_t vb = bits(b.value);
-  return std::tie(a.request_id, a.entity, a.param, va, a.policy_json) <
-         std::tie(b.request_id, b.entity, b.param, vb, b.policy_json);
+  return std::tie(a.request_id, a.entity, a.param, va, a.policy_json, a.sender) <
+         std::tie(b.request_id, b.entity, b.param, vb, b.policy_json, b.sender);
 }
 
 template <class T, class V>

@@ -32,9 +32,11 @@ namespace throng::match {
 namespace {
 
 constexpr std::uint32_t kMagic = 0x4B434D54;  // "TMCK" in the file
+// 3: each client record keeps the participant that owns it (the binding of client ids).
 // 2: the interest settings hashed apart from the rest of the config, and the match and snapshot
 // sections length-prefixed (a reader can skip the baselines). 1: still restored (same config only).
-constexpr std::uint32_t kVersion = 2;
+// Versions 1 and 2 restore with owners of all zeros, which is what the inputs logged with them carry.
+constexpr std::uint32_t kVersion = 3;
 constexpr std::uint32_t kOldestVersion = 1;
 constexpr std::size_t kMaxClientsEver = 1u << 24;
 
@@ -130,7 +132,7 @@ ConfigHashes config_hashes(const MatchConfig& config) {
   return ConfigHashes{c, mix_interest(kFnvBasis, config.interest), mix_interest(c, config.interest)};
 }
 
-// The header and section boundaries (versions 1 and 2), read without decoding the sections.
+// The header and section boundaries (versions 1 to 3), read without decoding the sections.
 struct Layout {
   std::uint32_t version = 0;
   std::uint64_t scene_hash = 0, config_hash = 0, interest_hash = 0;  // version 1: config_hash = ConfigHashes::v1
@@ -228,6 +230,11 @@ void Match::Impl::save_checkpoint(std::vector<std::uint8_t>& out) const {
   w.put(static_cast<std::uint32_t>(records.size()));
   for (const ClientRecord& c : records) put_client(w, c);
   ai.save_state(w);
+  // Version 3's trailer: each client's owner, then the client count again (so the section still
+  // reads as version 2's up to here).
+  for (const ClientRecord& c : records)
+    for (std::uint8_t b : c.owner.bytes) w.put(b);
+  w.put(static_cast<std::uint32_t>(records.size()));
   close_section();
 
   len_at = w.size();
@@ -274,7 +281,9 @@ void restore_match(Impl& m, std::span<const std::uint8_t> bytes, RestoreOptions 
   const bool their_shutdown = r.get_bool("shutdown flag");
   const bool their_info_dirty = r.get_bool("match info dirty");
   std::vector<std::uint64_t> their_rejected;
-  r.get_array_exact(their_rejected, "reject counters", kRejectReasonCount);
+  // foreign_participant, the last reason, came with version 3.
+  r.get_array_exact(their_rejected, "reject counters", l.version >= 3 ? kRejectReasonCount : kRejectReasonCount - 1);
+  their_rejected.resize(kRejectReasonCount, 0);
   const auto their_accepted = r.get<std::uint64_t>("accepted total");
   std::vector<float> their_yaw;
   std::vector<std::uint32_t> their_controller;
@@ -301,6 +310,11 @@ void restore_match(Impl& m, std::span<const std::uint8_t> bytes, RestoreOptions 
   }
   NpcAi staged_ai = m.ai;
   staged_ai.restore_state(r, n);
+  if (l.version >= 3) {
+    for (ClientRecord& c : records)
+      for (std::uint8_t& b : c.owner.bytes) b = r.get<std::uint8_t>("client owner");
+    if (r.get<std::uint32_t>("client owner count") != records.size()) r.fail("client owner count differs from the clients'");
+  }
   SnapshotBuilder staged_snapshots(m.config.interest);
   // Version 1 has the snapshot section at the end of the match section.
   ByteReader snap = l.version == 1 ? r : ByteReader(l.snapshots);

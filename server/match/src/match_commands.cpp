@@ -1,5 +1,6 @@
 // Commands: validated in the drained order (entity, sequence, client id), each either applied or
-// rejected with the first failing check of: unknown_client, not_your_entity, non_finite, move /
+// rejected with the first failing check of: unknown_client, foreign_participant (sent by another
+// participant than the one that joined the client), not_your_entity, non_finite, move /
 // facing / camera range, bad_actions, stale/duplicate sequence, rate_limited. A rejected command
 // changes nothing at all (no state, no sequence, no activity time).
 //
@@ -19,6 +20,7 @@ namespace throng::match {
 std::optional<RejectReason> Match::Impl::check_command(const protocol::Command& cmd, std::uint64_t tick) {
   const ClientRecord* c = clients.find_connected(cmd.client_id);
   if (c == nullptr) return RejectReason::unknown_client;
+  if (cmd.sender != c->owner) return RejectReason::foreign_participant;
   if (cmd.entity != c->entity.value) return RejectReason::not_your_entity;
   if (auto bad = check_command_fields(cmd, config)) return bad;
   if (cmd.sequence <= c->last_applied_sequence) {

@@ -11,6 +11,11 @@
 //
 // A leave must name a client id together with the nonce that client joined with; a repeated leave
 // of a client that already left is answered `left` again.
+//
+// Binding: a client belongs to the participant that sent its join (JoinRequest::sender). A leave,
+// or a repeated join, of a client from another participant is refused as foreign_participant and
+// answered with nothing: the reply topic is keyed by nonce, so any reply would replace the owner's
+// own reply for late joiners.
 #include <array>
 #include <cmath>
 #include <limits>
@@ -80,6 +85,10 @@ void Match::Impl::handle_join(const protocol::JoinRequest& r, std::uint64_t tick
     return;
   }
   if (const ClientRecord* existing = clients.find_connected_nonce(r.client_nonce)) {
+    if (existing->owner != r.sender) {
+      ++report.joins_foreign;
+      return;
+    }
     protocol::JoinReply again = accepted_reply(*existing, existing->joined_tick);
     out.join_replies.push_back(std::move(again));
     return;
@@ -101,7 +110,7 @@ void Match::Impl::handle_join(const protocol::JoinRequest& r, std::uint64_t tick
     ++report.joins_refused;
     return;
   }
-  ClientRecord& c = clients.add(r.client_nonce, r.name);
+  ClientRecord& c = clients.add(r.client_nonce, r.name, r.sender, r.identity);
   take_over(c, *dense, tick);
   out.client_events.push_back(ClientEvent{ClientEvent::Kind::joined, c.id, c.entity.value, c.partition, c.name});
   out.join_replies.push_back(accepted_reply(c, tick));
@@ -114,6 +123,10 @@ void Match::Impl::handle_leave(const protocol::JoinRequest& r, std::uint64_t tic
     out.join_replies.push_back(refusal(r, protocol::JoinResult::bad_request,
                                        fmt::format("leave for unknown client {}", r.client_id), tick));
     ++report.joins_refused;
+    return;
+  }
+  if (c->owner != r.sender) {
+    ++report.joins_foreign;
     return;
   }
   const bool was_connected = c->connected;

@@ -269,7 +269,7 @@ void MatchLogReader::scan_records() {
             decode_block(s.blocks.size() - 1, raw);
             std::size_t at = 0;
             for (std::uint32_t k = 0; k < count; ++k) {
-              decode_tick(raw, at, scratch);
+              decode_tick(raw, at, scratch, s.format_version);
               if (scratch.tick != first + k)
                 throw LogError(fmt::format("entry {} holds tick {}, tick {} expected", k, scratch.tick, first + k));
             }
@@ -446,7 +446,7 @@ bool TickCursor::seek(std::uint64_t tick) {
   r_.decode_block(block_, raw_);
   loaded_ = true;
   TickRecord skip;
-  for (std::uint64_t t = it->first_tick; t < tick; ++t) decode_tick(raw_, pos_, skip);
+  for (std::uint64_t t = it->first_tick; t < tick; ++t) decode_tick(raw_, pos_, skip, r_.scan().format_version);
   return true;
 }
 
@@ -459,7 +459,7 @@ bool TickCursor::next(TickRecord& out) {
       loaded_ = true;
     }
     if (pos_ < raw_.size()) {
-      decode_tick(raw_, pos_, out);
+      decode_tick(raw_, pos_, out, r_.scan().format_version);
       return true;
     }
     ++block_;
@@ -482,7 +482,7 @@ bool MatchLogReader::next(TickRecord& out) {
       raw_loaded_ = true;
     }
     if (raw_pos_ < raw_.size()) {
-      decode_tick(raw_, raw_pos_, out);
+      decode_tick(raw_, raw_pos_, out, scan_.format_version);
       return true;
     }
     ++block_;
@@ -505,7 +505,7 @@ bool MatchLogReader::seek(std::uint64_t tick) {
   raw_pos_ = 0;
   raw_loaded_ = true;
   TickRecord skip;
-  for (std::uint64_t t = it->first_tick; t < tick; ++t) decode_tick(raw_, raw_pos_, skip);
+  for (std::uint64_t t = it->first_tick; t < tick; ++t) decode_tick(raw_, raw_pos_, skip, scan_.format_version);
   return true;
 }
 

@@ -12,8 +12,11 @@ namespace throng::matchlog {
 namespace {
 
 constexpr std::size_t kTickFixedBytes = 8 + 8 + 1 + 4 + 4 + 4;  // tick, hash, flags, three counts
-constexpr std::size_t kJoinFixedBytes = 8 + 4 + 1 + 4 + 4;       // nonce, version, leave, client, name length
-constexpr std::size_t kCommandBytes = 4 + 4 + 4 + 8 + 4 + 4 + 4 + 4 + 4 + 4 + 4;  // 48
+constexpr std::size_t kSenderBytes = 12;                           // ParticipantKey (format version 3)
+constexpr std::size_t kJoinFixedBytesV2 = 8 + 4 + 1 + 4 + 4;       // nonce, version, leave, client, name length
+constexpr std::size_t kJoinFixedBytes = kJoinFixedBytesV2 + kSenderBytes + 4;  // + sender, identity length
+constexpr std::size_t kCommandBytesV2 = 4 + 4 + 4 + 8 + 4 + 4 + 4 + 4 + 4 + 4 + 4;  // 48
+constexpr std::size_t kCommandBytes = kCommandBytesV2 + kSenderBytes;                // 60
 constexpr std::size_t kParamFixedBytes = 8 + 4 + 4 + 8 + 4;      // request, entity, param length, value, policy length
 
 class Out {
@@ -24,6 +27,10 @@ class Out {
   void u64(std::uint64_t v) { u32(static_cast<std::uint32_t>(v)); u32(static_cast<std::uint32_t>(v >> 32)); }
   void f32(float v) { u32(std::bit_cast<std::uint32_t>(v)); }
   void f64(double v) { u64(std::bit_cast<std::uint64_t>(v)); }
+  void key(const protocol::ParticipantKey& k) {
+    std::memcpy(p_, k.bytes.data(), k.bytes.size());
+    p_ += k.bytes.size();
+  }
   void str(const std::string& s) {
     u32(static_cast<std::uint32_t>(s.size()));
     if (!s.empty()) std::memcpy(p_, s.data(), s.size());
@@ -35,11 +42,17 @@ class Out {
   std::uint8_t* p_;
 };
 
+protocol::ParticipantKey read_key(detail::ByteReader& r) {
+  protocol::ParticipantKey k;
+  for (auto& b : k.bytes) b = r.u8();
+  return k;
+}
+
 }  // namespace
 
 std::size_t encoded_tick_size(const match::TickInputs& in) {
   std::size_t n = kTickFixedBytes + in.commands.size() * kCommandBytes;
-  for (const auto& j : in.joins) n += kJoinFixedBytes + j.name.size();
+  for (const auto& j : in.joins) n += kJoinFixedBytes + j.name.size() + j.identity.size();
   for (const auto& p : in.params) n += kParamFixedBytes + p.param.size() + p.policy_json.size();
   return n;
 }
@@ -62,6 +75,8 @@ void encode_tick(std::uint64_t tick, const match::TickInputs& in, std::uint64_t 
     o.u8(j.leave ? 1 : 0);
     o.u32(j.client_id);
     o.str(j.name);
+    o.key(j.sender);
+    o.str(j.identity);
   }
   for (const auto& c : in.commands) {
     o.u32(c.client_id);
@@ -75,6 +90,7 @@ void encode_tick(std::uint64_t tick, const match::TickInputs& in, std::uint64_t 
     o.f32(c.camera_x);
     o.f32(c.camera_y);
     o.f32(c.camera_z);
+    o.key(c.sender);
   }
   for (const auto& p : in.params) {
     o.u64(p.request_id);
@@ -85,7 +101,8 @@ void encode_tick(std::uint64_t tick, const match::TickInputs& in, std::uint64_t 
   }
 }
 
-void decode_tick(std::span<const std::uint8_t> bytes, std::size_t& pos, TickRecord& t) {
+void decode_tick(std::span<const std::uint8_t> bytes, std::size_t& pos, TickRecord& t, std::uint32_t format_version) {
+  const bool senders = format_version >= 3;
   detail::ByteReader r(bytes, pos);
   t.tick = r.u64();
   t.state_hash = r.u64();
@@ -93,8 +110,8 @@ void decode_tick(std::span<const std::uint8_t> bytes, std::size_t& pos, TickReco
   if ((t.flags & ~kKnownTickFlags) != 0)
     throw LogError("tick " + std::to_string(t.tick) + " has unknown flag bits 0x" + std::to_string(t.flags) +
                    " (written by a newer build?)");
-  const std::uint32_t nj = r.count(kJoinFixedBytes);
-  const std::uint32_t nc = r.count(kCommandBytes);
+  const std::uint32_t nj = r.count(senders ? kJoinFixedBytes : kJoinFixedBytesV2);
+  const std::uint32_t nc = r.count(senders ? kCommandBytes : kCommandBytesV2);
   const std::uint32_t np = r.count(kParamFixedBytes);
   t.inputs.joins.resize(nj);
   t.inputs.commands.resize(nc);
@@ -107,6 +124,8 @@ void decode_tick(std::span<const std::uint8_t> bytes, std::size_t& pos, TickReco
     j.leave = leave != 0;
     j.client_id = r.u32();
     j.name = r.str();
+    j.sender = senders ? read_key(r) : protocol::ParticipantKey{};
+    j.identity = senders ? r.str() : std::string();
   }
   for (auto& c : t.inputs.commands) {
     c.client_id = r.u32();
@@ -120,6 +139,7 @@ void decode_tick(std::span<const std::uint8_t> bytes, std::size_t& pos, TickReco
     c.camera_x = r.f32();
     c.camera_y = r.f32();
     c.camera_z = r.f32();
+    c.sender = senders ? read_key(r) : protocol::ParticipantKey{};
   }
   for (auto& p : t.inputs.params) {
     p.request_id = r.u64();

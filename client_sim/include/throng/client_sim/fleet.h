@@ -23,6 +23,7 @@
 #include "throng/client_sim/client_world.h"
 #include "throng/client_sim/match_view.h"
 #include "throng/client_sim/report.h"
+#include "throng/protocol/dds_transport.h"
 #include "throng/protocol/messages.h"
 
 namespace throng::client_sim {
@@ -31,6 +32,7 @@ struct FleetOptions {
   int domain_id = 0;
   bool loopback_only = true;
   bool participant_per_client = false;
+  std::optional<protocol::SecurityFiles> security;  // DDS Security (throng-pki's bots identity); nullopt: off
   std::string behavior = "wander";  // a behaviour spec (expand_behavior_spec)
   std::string name_prefix = "bot";  // bot i is "<prefix>-<i>-<behavior>"
   std::uint64_t seed = 0;           // 0: nonces and behaviour seeds from std::random_device

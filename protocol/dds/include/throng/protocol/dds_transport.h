@@ -9,12 +9,25 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
 #include "throng/protocol/messages.h"
 
 namespace throng::protocol {
+
+// DDS Security for one participant (Fast DDS's builtin plugins: DDS:Auth:PKI-DH,
+// DDS:Access:Permissions, DDS:Crypto:AES-GCM-GMAC): the files of one identity, as throng-pki lays
+// them out (security.h finds them by role). All paths, none empty.
+struct SecurityFiles {
+  std::string identity_ca;     // CA that signed every identity of the match
+  std::string permissions_ca;  // CA that signed the governance and every permissions document
+  std::string governance;       // signed governance (domain rules: who may join, what is encrypted)
+  std::string certificate;     // this participant's identity certificate
+  std::string private_key;     // and its key
+  std::string permissions;     // this identity's signed permissions (topics and partitions)
+};
 
 struct TransportOptions {
   int domain_id = 0;           // 0..232
@@ -23,6 +36,7 @@ struct TransportOptions {
   // transports/discovery (a real network).
   bool loopback_only = true;
   std::string participant_name = "throng";
+  std::optional<SecurityFiles> security;  // nullopt: no DDS Security
 };
 
 // Bytes and samples a transport wrote, for metrics (payload bytes as serialized, no RTPS headers).

@@ -6,6 +6,8 @@
 //
 // Units on the wire: metres as float for inputs a client sends (a client is never trusted, so the
 // server validates every value), quantized integers for the poses the server sends (codec.h).
+#include <array>
+#include <compare>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -27,6 +29,17 @@ inline constexpr const char* kTopicParamReply = "throng_v1_param_reply";
 inline constexpr const char* kTopicServerStats = "throng_v1_server_stats";
 inline constexpr const char* kTopicContacts = "throng_v1_contacts";
 
+// The DDS participant a message came from: the GUID prefix of the writer of the sample, filled in
+// by the server's transport from the sample's metadata. Never part of a message a client
+// serializes, so a client cannot set it by writing a field; a client_id belongs to the participant
+// that joined it (match_joins.cpp). All zeros: not received over DDS (tests, tools).
+// Without DDS Security a GUID prefix can still be forged on the wire by a crafted RTPS packet; with
+// it, the participant behind the prefix is authenticated (README, "Security").
+struct ParticipantKey {
+  std::array<std::uint8_t, 12> bytes{};
+  auto operator<=>(const ParticipantKey&) const = default;
+};
+
 // --- join / leave (client -> server, reliable) ----------------------------------------------
 struct JoinRequest {
   std::uint64_t client_nonce = 0;  // random per client process+bot; keys the reply
@@ -34,6 +47,12 @@ struct JoinRequest {
   std::string name;                // free text for logs, at most 64 bytes
   bool leave = false;              // true: the client leaves (client_id below)
   std::uint32_t client_id = 0;     // leave only
+  // Filled in by the server's transport, not sent: who wrote the request, and (with DDS Security)
+  // the common name of its authenticated certificate, empty without Security. The client's
+  // snapshot partition follows from the identity, so a player's permissions can name it before the
+  // join.
+  ParticipantKey sender;
+  std::string identity;
 };
 
 enum class JoinResult : std::uint8_t {
@@ -43,6 +62,10 @@ enum class JoinResult : std::uint8_t {
   shutting_down = 3,
   bad_request = 4,  // malformed (empty nonce, name too long, leave for an unknown client)
   left = 5,         // reply to a leave
+  // A join or leave naming a client (nonce, client id) that another participant owns. Counted, and
+  // never published: the reply topic is keyed by nonce, so a refusal would overwrite the owner's
+  // own accepted reply.
+  foreign_participant = 6,
 };
 const char* to_string(JoinResult r);
 
@@ -80,6 +103,7 @@ struct Command {
   float camera_x = 0.0f;             // camera position in world metres (interest management and
   float camera_y = 0.0f;             //   the engine's camera-distance parameter)
   float camera_z = 0.0f;
+  ParticipantKey sender;             // filled in by the server's transport, not sent (see above)
 };
 
 // --- snapshots (server -> one client, best-effort, one sample per client per tick) -----------
@@ -174,6 +198,9 @@ struct ParamUpdate {
   std::string param;               // parameter name as in the parameter table ("weight", ...)
   double value = 0.0;
   std::string policy_json;         // non-empty: replace the push policy with this document
+  // Filled in by the server's transport, not sent. The server's edge decides who may change
+  // parameters (an operator); the match itself never reads it, so the match log does not keep it.
+  ParticipantKey sender;
 };
 
 struct ParamReply {

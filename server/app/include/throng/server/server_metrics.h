@@ -21,6 +21,8 @@ struct ServerMetrics {
   admin::Gauge& bodies;
   admin::Counter& joins_accepted;
   admin::Counter& joins_refused;
+  admin::Counter& joins_foreign;         // joins/leaves for another participant's client
+  admin::Counter& param_not_operator;    // parameter changes from a participant that is no operator
   admin::Counter& leaves;
   admin::Counter& timeouts;
   admin::Counter& commands_accepted;

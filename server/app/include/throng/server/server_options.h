@@ -22,6 +22,11 @@ struct ServerOptions {
   std::string log_file = "auto";   // match log: "auto" = logs/<match id>.tlog, "" = none (--no-log)
   std::string log_level = "info";  // trace, debug, info, warn, error
   std::uint32_t max_catchup_ticks = 3;
+  // Parameter changes (ParamUpdate) are accepted only from operators. With --security, DDS access
+  // control lets only identities with the operator permission write them; without it, nobody can
+  // be told apart, so they are refused unless this is set (development, tests, local tools).
+  bool allow_anonymous_operator = false;
+  std::string security_dir;        // --security DIR: DDS Security with the server identity in DIR
   match::MatchConfig match;        // tick rate, clients, interest ... (match_config.h)
 };
 

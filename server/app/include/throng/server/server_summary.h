@@ -38,6 +38,8 @@ struct SummaryInputs {
   std::uint64_t poses = 0;
   double view_error_max_m = 0;
   std::string scene_name;
+  std::uint64_t joins_foreign = 0;       // joins/leaves for another participant's client
+  std::uint64_t param_not_operator = 0;  // parameter changes refused: not an operator
 };
 
 nlohmann::json make_summary(const SummaryInputs& in);

@@ -48,6 +48,7 @@ enum class RejectReason : std::uint8_t {
   stale_sequence,        // sequence below the newest applied
   duplicate_sequence,    // sequence equal to one already applied
   rate_limited,          // more than max_commands_per_tick from one client in a tick
+  foreign_participant,   // sent by another DDS participant than the one that joined the client
   count_
 };
 inline constexpr std::size_t kRejectReasonCount = static_cast<std::size_t>(RejectReason::count_);
@@ -58,6 +59,7 @@ struct TickReport {
   std::uint64_t state_hash = 0; // World::state_hash after the step
   double drain_us = 0, apply_us = 0, ai_us = 0, step_us = 0, snapshots_us = 0, total_us = 0;
   std::uint32_t joins_accepted = 0, joins_refused = 0, leaves = 0, timeouts = 0;
+  std::uint32_t joins_foreign = 0;  // joins/leaves naming another participant's client (not answered)
   std::uint32_t commands_accepted = 0, commands_rejected = 0;
   std::uint32_t param_updates_applied = 0, param_updates_rejected = 0;
   std::uint32_t push_events = 0;  // contacts pushed this tick

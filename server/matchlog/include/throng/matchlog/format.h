@@ -14,7 +14,8 @@
 namespace throng::matchlog {
 
 inline constexpr std::uint8_t kMagic[8] = {0x89, 'T', 'H', 'R', 'O', 'N', 'G', '\n'};
-inline constexpr std::uint32_t kFormatVersion = 2;   // what this build writes
+// 3: joins and commands carry their sender (the DDS participant), joins its authenticated identity.
+inline constexpr std::uint32_t kFormatVersion = 3;   // what this build writes
 inline constexpr std::uint32_t kOldestReadableFormatVersion = 1;  // v1: no keyframes (read too)
 inline constexpr std::size_t kFilePreambleBytes = 12;  // magic + version
 inline constexpr std::size_t kRecordOverheadBytes = 9;  // length + type + crc

@@ -25,6 +25,8 @@ std::size_t encoded_tick_size(const match::TickInputs& inputs);
 
 // Decodes the entry starting at bytes[pos]; advances pos past it. Throws LogError (message without
 // file offset: the caller adds it) when the entry is malformed or runs past the end.
-void decode_tick(std::span<const std::uint8_t> bytes, std::size_t& pos, TickRecord& out);
+// format_version is the log's: entries before version 3 carry no senders (they decode as zeros,
+// as the match saw them then).
+void decode_tick(std::span<const std::uint8_t> bytes, std::size_t& pos, TickRecord& out, std::uint32_t format_version);
 
 }  // namespace throng::matchlog
