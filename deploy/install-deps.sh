@@ -18,6 +18,7 @@ PACKAGES=(
   libspdlog-dev        # server/bot logs with levels and timestamps
   chromium             # headless browser for throng-view's end-to-end test (DevTools protocol)
   libzstd-dev          # match-log tick blocks compressed with zstd
+  openssl              # throng-pki: DDS Security certificates and signed governance/permissions
 )
 
 if [ "$(id -u)" -ne 0 ]; then SUDO=sudo; else SUDO=; fi

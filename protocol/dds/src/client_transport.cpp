@@ -18,6 +18,8 @@ using namespace dds_detail;
 
 namespace {
 
+constexpr std::chrono::milliseconds kParamMatchWait{10000};
+
 // One client's subscription to a per-client topic (snapshots, contact pairs). The handler can be
 // replaced while samples arrive, so the listener reads it under a mutex and calls a copy outside
 // the lock.
@@ -107,6 +109,9 @@ struct ClientTransport::Impl {
   Participant participant;
   dds::DataWriter* join_request_writer = nullptr;
   dds::DataWriter* command_writer = nullptr;
+  // Created by the first send_param_update: with DDS Security only operators may write the topic,
+  // and a player's participant could not even be created with the writer in it.
+  std::mutex param_mutex;
   dds::DataWriter* param_update_writer = nullptr;
 
   std::mutex start_mutex;
@@ -118,8 +123,6 @@ struct ClientTransport::Impl {
     join_request_writer =
         &participant.create_writer(pub, *t.join_request, kJoinRequestProfiles.writer, &join_request_matches);
     command_writer = &participant.create_writer(pub, *t.command, kCommandProfiles.writer, &command_matches);
-    param_update_writer =
-        &participant.create_writer(pub, *t.param_update, kParamProfiles.writer, &param_update_matches);
   }
 
   template <class Idl, class Message>
@@ -151,12 +154,9 @@ void ClientTransport::start(Handlers handlers) {
   c.started = true;
 }
 
-// Also waits for the param-update reader (the server creates all three in start()): the topic is
-// reliable but volatile, so an update written before its writer matched is never delivered.
 bool ClientTransport::wait_for_server(std::chrono::milliseconds timeout) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
-  return impl_->join_request_matches.wait_until(deadline) && impl_->command_matches.wait_until(deadline) &&
-         impl_->param_update_matches.wait_until(deadline);
+  return impl_->join_request_matches.wait_until(deadline) && impl_->command_matches.wait_until(deadline);
 }
 
 void ClientTransport::send_join(const JoinRequest& request) {
@@ -169,9 +169,24 @@ void ClientTransport::send_command(const Command& command) {
   write_sample(*impl_->command_writer, sample);
 }
 
+// The writer appears with the first update, which then waits for the server's reader: the topic is
+// reliable but volatile, so an update written before its writer matched is never delivered.
 void ClientTransport::send_param_update(const ParamUpdate& update) {
+  Impl& c = *impl_;
+  std::lock_guard<std::mutex> lock(c.param_mutex);
+  if (c.param_update_writer == nullptr) {
+    try {
+      c.param_update_writer = &c.participant.create_writer(c.participant.publisher(), *c.participant.topics().param_update,
+                                                           kParamProfiles.writer, &c.param_update_matches);
+    } catch (const TransportError& e) {
+      throw TransportError(std::string(e.what()) + " (with DDS Security only an operator identity may change parameters)");
+    }
+  }
+  if (!c.param_update_matches.wait_until(std::chrono::steady_clock::now() + kParamMatchWait))
+    throw TransportError("no server reads parameter changes on this domain (waited " +
+                         std::to_string(kParamMatchWait.count()) + " ms)");
   v1::ParamUpdate sample = to_idl(update);
-  write_sample(*impl_->param_update_writer, sample);
+  write_sample(*c.param_update_writer, sample);
 }
 
 void ClientTransport::subscribe_snapshots(std::uint32_t client_id, const std::string& partition,

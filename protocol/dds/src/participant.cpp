@@ -31,21 +31,47 @@ void destroy(dds::DomainParticipant* participant) {
 
 }  // namespace
 
+namespace {
+ParticipantKey key_of(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) {
+  ParticipantKey key;
+  for (std::size_t i = 0; i < key.bytes.size(); ++i) key.bytes[i] = prefix.value[i];
+  return key;
+}
+}  // namespace
+
+// Fast DDS 2.9 reports a secure participant as discovered at its first announcement, before any
+// handshake, and raises the authentication callback only for some failures (a certificate of a
+// foreign CA is refused without one). So a participant counts as refused when authentication
+// says so, or when it goes away without ever having been authorized.
 void IdentityDirectory::on_participant_discovery(dds::DomainParticipant*,
                                                  eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) {
   using Status = eprosima::fastrtps::rtps::ParticipantDiscoveryInfo::DISCOVERY_STATUS;
-  ParticipantKey key;
-  const auto& prefix = info.info.m_guid.guidPrefix.value;
-  for (std::size_t i = 0; i < key.bytes.size(); ++i) key.bytes[i] = prefix[i];
+  const ParticipantKey key = key_of(info.info.m_guid.guidPrefix);
   std::unique_lock lock(mutex_);
   if (info.status == Status::REMOVED_PARTICIPANT || info.status == Status::DROPPED_PARTICIPANT) {
     names_.erase(key);
+    if (pending_.erase(key) > 0) ++refused_;
     return;
   }
+  if (info.status == Status::DISCOVERED_PARTICIPANT && secure_) pending_.insert(key);
+  // The identity token is the remote's claim; access control, not this name, keeps a client out
+  // of partitions that are not its own (a false claim only earns a partition its holder may not
+  // read: protocol/security/README.md).
   for (const auto& property : info.info.identity_token_.properties()) {
     if (property.name() != "dds.cert.sn") continue;
     const std::string cn = common_name(property.value());
     if (!cn.empty()) names_[key] = cn;
+  }
+}
+
+void IdentityDirectory::onParticipantAuthentication(dds::DomainParticipant*,
+                                                    eprosima::fastrtps::rtps::ParticipantAuthenticationInfo&& info) {
+  const ParticipantKey key = key_of(info.guid.guidPrefix);
+  std::unique_lock lock(mutex_);
+  pending_.erase(key);
+  if (info.status == eprosima::fastrtps::rtps::ParticipantAuthenticationInfo::UNAUTHORIZED_PARTICIPANT) {
+    ++refused_;
+    names_.erase(key);
   }
 }
 
@@ -66,7 +92,9 @@ std::string common_name(const std::string& subject) {
 }
 
 Participant::Participant(const TransportOptions& options)
-    : domain_id_(options.domain_id), participant_(create_participant(options, identities_.get())) {
+    : domain_id_(options.domain_id),
+      identities_(std::make_unique<IdentityDirectory>(options.security.has_value())),
+      participant_(create_participant(options, identities_.get())) {
   try {
     const std::string w = where();
     topics_.match_info = make_topic<v1::MatchInfoPubSubType>(*participant_, kTopicMatchInfo, w);

@@ -11,7 +11,10 @@
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
+#include <atomic>
+#include <cstdint>
 #include <map>
+#include <set>
 #include <memory>
 #include <shared_mutex>
 #include <string>
@@ -38,13 +41,22 @@ struct Topics {
 // identity token whose dds.cert.sn is its certificate's subject name.
 class IdentityDirectory final : public eprosima::fastdds::dds::DomainParticipantListener {
  public:
+  explicit IdentityDirectory(bool secure) : secure_(secure) {}
   void on_participant_discovery(eprosima::fastdds::dds::DomainParticipant* participant,
                                 eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override;
+  // Participants whose authentication failed (a foreign CA, an expired or revoked certificate, a
+  // permissions document that does not verify): Fast DDS only logs why at warning level.
+  void onParticipantAuthentication(eprosima::fastdds::dds::DomainParticipant* participant,
+                                   eprosima::fastrtps::rtps::ParticipantAuthenticationInfo&& info) override;
   std::string identity_of(const ParticipantKey& key) const;
+  std::uint64_t refused() const { return refused_.load(); }
 
  private:
+  const bool secure_;
   mutable std::shared_mutex mutex_;
   std::map<ParticipantKey, std::string> names_;
+  std::set<ParticipantKey> pending_;  // discovered, not yet authorized (DDS Security only)
+  std::atomic<std::uint64_t> refused_{0};
 };
 
 // The common name (CN) in a subject name as OpenSSL prints it ("CN=x,O=y" or "/O=y/CN=x"); empty
@@ -80,6 +92,8 @@ class Participant {
   // prefix, as DDS Security reported it at discovery; empty without Security or for a participant
   // not (or no longer) discovered.
   std::string identity_of(const ParticipantKey& key) const;
+  // Authentication failures of remote participants so far (DDS Security only).
+  std::uint64_t participants_refused() const { return identities_->refused(); }
 
   // Deletes a partition publisher/subscriber and the endpoints in it.
   void delete_publisher(eprosima::fastdds::dds::Publisher& publisher);
@@ -90,7 +104,7 @@ class Participant {
 
   int domain_id_ = 0;
   // Before the participant: it calls the directory until it is deleted.
-  std::unique_ptr<IdentityDirectory> identities_ = std::make_unique<IdentityDirectory>();
+  std::unique_ptr<IdentityDirectory> identities_;
   eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;

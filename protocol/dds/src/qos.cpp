@@ -73,7 +73,10 @@ dds::DomainParticipant* create_participant(const TransportOptions& options, dds:
   if (options.security) add_security(qos, *options.security, where);
 
   dds::DomainParticipant* participant = factory->create_participant(
-      static_cast<dds::DomainId_t>(options.domain_id), qos, listener, dds::StatusMask::none());
+      static_cast<dds::DomainId_t>(options.domain_id), qos, listener,
+      // Not data_on_readers: a participant listener with it would take every sample away from the
+      // readers' own listeners. (Discovery and authentication callbacks are not masked.)
+      dds::StatusMask::all() >> dds::StatusMask::data_on_readers());
   if (participant == nullptr)
     throw TransportError(where + (options.security ? "Fast DDS refused (a security file not accepted: a certificate "
                                                      "not signed by the identity CA or expired, a permissions or "

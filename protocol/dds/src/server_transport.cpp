@@ -191,6 +191,7 @@ TransportCounters ServerTransport::counters() const {
                       impl_->other_bytes.load()};
   c.contacts_samples = impl_->contacts_samples.load();
   c.contacts_bytes = impl_->contacts_bytes.load();
+  c.participants_refused = impl_->participant.participants_refused();
   return c;
 }
 

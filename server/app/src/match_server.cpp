@@ -91,6 +91,7 @@ struct MatchServer::Impl {
   std::uint64_t joins_foreign_total = 0;
   // Refused on DDS listener threads (the parameter-change gate), read by the tick thread.
   std::atomic<std::uint64_t> param_not_operator_total{0};
+  std::uint64_t participants_refused_logged = 0;
   bool operators_allowed = false;  // --security (access control decides) or --allow-anonymous-operator
   std::uint64_t poses_total = 0;
   double view_error_max_m = 0.0;
@@ -191,6 +192,8 @@ MatchServer::MatchServer(const ServerOptions& options) : impl_(std::make_unique<
 MatchServer::~MatchServer() = default;
 
 void MatchServer::request_stop() { impl_->stop_requested.store(true); }
+
+protocol::TransportCounters MatchServer::transport_counters() const { return impl_->transport.counters(); }
 
 std::uint16_t MatchServer::admin_port() const { return impl_->admin ? impl_->admin->port() : 0; }
 
@@ -316,11 +319,19 @@ void MatchServer::Impl::run_tick(Clock::time_point woke) {
   raise_to(metrics.other_bytes, c.other_bytes);
   raise_to(metrics.contacts_samples, c.contacts_samples);
   raise_to(metrics.contacts_bytes, c.contacts_bytes);
+  raise_to(metrics.participants_refused, c.participants_refused);
   raise_to(metrics.skipped_ticks, schedule->skipped());
 
   if (stopping) finished = true;
   if (report.tick % options.match.tick_hz == 0 || finished) {
     publish_stats(report);
+    // Logged at 1, 2, 4, 8 ... refusals: a stranger retries about once a second.
+    if (c.participants_refused > 0 && c.participants_refused >= 2 * participants_refused_logged) {
+      spdlog::warn("DDS Security refused {} authentication attempt(s) so far: a participant with a certificate of "
+                   "another CA, an expired certificate or permissions that do not verify (throng-pki check DIR "
+                   "tells which of ours is wrong)", c.participants_refused);
+      participants_refused_logged = c.participants_refused;
+    }
     if (log) check_log();
   }
   if (done - last_progress >= std::chrono::seconds(10)) log_progress(done);

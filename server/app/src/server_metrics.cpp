@@ -24,6 +24,9 @@ ServerMetrics::ServerMetrics(admin::MetricsRegistry& r)
       joins_foreign(r.counter("throng_joins_total", "Join requests, by result.", {{"result", "foreign_participant"}})),
       param_not_operator(r.counter("throng_param_updates_total", "Operator parameter/policy changes, by result.",
                                    {{"result", "not_an_operator"}})),
+      participants_refused(r.counter("throng_participants_refused_total",
+                                     "DDS Security: authentication failures of remote participants (foreign CA, expired "
+                                     "certificate, permissions that do not verify); a refused participant retries.")),
       leaves(r.counter("throng_client_departures_total", "Clients that left, by how.", {{"how", "left"}})),
       timeouts(r.counter("throng_client_departures_total", "Clients that left, by how.", {{"how", "timed_out"}})),
       commands_accepted(r.counter("throng_commands_accepted_total", "Client commands accepted and applied.")),

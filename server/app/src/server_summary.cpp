@@ -42,6 +42,7 @@ nlohmann::json make_summary(const SummaryInputs& in) {
   j["input_queue_dropped"] = m.inputs().dropped();
   j["joins_foreign_participant"] = in.joins_foreign;
   j["param_updates_not_operator"] = in.param_not_operator;
+  j["participants_refused"] = in.published.participants_refused;
   nlohmann::json clients = nlohmann::json::array();
   for (const auto& [id, r] : in.ledger.records()) {
     clients.push_back({{"client_id", r.client_id}, {"name", r.name}, {"entity", r.entity}, {"joined_tick", r.joined_tick},

@@ -47,6 +47,9 @@ struct TransportCounters {
   std::uint64_t other_bytes = 0;
   std::uint64_t contacts_samples = 0;  // the ContactPairs debug channel (opted-in clients only)
   std::uint64_t contacts_bytes = 0;
+  // DDS Security: remote participants whose authentication failed (Fast DDS retries a refused
+  // participant's handshake, so one stranger counts about once a second while it keeps trying).
+  std::uint64_t participants_refused = 0;
 };
 
 class TransportError : public std::runtime_error {
@@ -116,12 +119,14 @@ class ClientTransport {
 
   void start(Handlers handlers);
 
-  // Blocks until the server's join-request, command and param-update readers are matched (discovery done)
-  // or the timeout passes; returns whether they matched.
+  // Blocks until the server's join-request and command readers are matched (discovery done) or
+  // the timeout passes; returns whether they matched.
   bool wait_for_server(std::chrono::milliseconds timeout);
 
   void send_join(const JoinRequest& request);
   void send_command(const Command& command);
+  // An operator's parameter change. The first call creates the writer (with DDS Security only an
+  // operator identity may: TransportError otherwise) and waits up to 10 s for the server's reader.
   void send_param_update(const ParamUpdate& update);
 
   // Subscribes to one client's snapshot partition; handler runs on a DDS thread. Subscribing an

@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "throng/protocol/dds_transport.h"
 #include "throng/server/server_options.h"
 
 namespace throng::server {
@@ -36,6 +37,9 @@ class MatchServer {
 
   // The admin HTTP port actually bound (useful with --admin-port 0); 0 when disabled.
   std::uint16_t admin_port() const;
+
+  // Thread-safe: what the DDS transport counted so far (samples, bytes, refused participants).
+  protocol::TransportCounters transport_counters() const;
 
   // End-of-match figures (also written to --summary-json): ticks, overruns, tick time
   // percentiles, commands by reason, per-client counts, bytes, state hash.

@@ -23,6 +23,7 @@ struct ServerMetrics {
   admin::Counter& joins_refused;
   admin::Counter& joins_foreign;         // joins/leaves for another participant's client
   admin::Counter& param_not_operator;    // parameter changes from a participant that is no operator
+  admin::Counter& participants_refused;  // DDS Security: remote participants that failed authentication
   admin::Counter& leaves;
   admin::Counter& timeouts;
   admin::Counter& commands_accepted;
