@@ -76,6 +76,48 @@ TEST(BotsCli, RunsWritesJsonAndLeavesOnSigint) {
   }
 }
 
+// The bot fleet authenticates with its identity from a throng-pki directory and plays a match that
+// runs with DDS Security. Without credentials the same bots find no server, and the server counts
+// and logs the refusal.
+TEST(BotsCli, PlayASecureMatchWithTheFleetIdentity) {
+  constexpr int kDomain = 179;
+  TempDir dir;
+  const std::string pki = (dir / "pki").string();
+  ASSERT_EQ(std::system((std::string(THRONG_BIN_DIR) + "/throng-pki init " + pki + " >/dev/null 2>&1").c_str()), 0);
+  auto server = testing::start_server(kDomain, dir, {"--security", pki});
+  ChildProcess bots(kBots,
+                    {"--clients", "3", "--duration", "4", "--domain", std::to_string(kDomain), "--security", pki,
+                     "--json", (dir / "bots.json").string(), "--server-wait", "20", "--quiet"},
+                    dir / "bots.out", dir / "bots.err");
+  const auto code = bots.wait(std::chrono::seconds(60));
+  ASSERT_TRUE(code);
+  EXPECT_EQ(*code, 0) << testing::read_file(dir / "bots.err");
+  const auto j = nlohmann::json::parse(testing::read_file(dir / "bots.json"));
+  EXPECT_EQ(j["joined"], 3);
+  EXPECT_GT(j["commands"]["applied"].get<std::uint64_t>(), 0u);
+
+  ChildProcess anonymous(kBots, {"--clients", "1", "--duration", "2", "--domain", std::to_string(kDomain), "--server-wait", "3"},
+                         dir / "anon.out", dir / "anon.err");
+  const auto anon_code = anonymous.wait(std::chrono::seconds(30));
+  ASSERT_TRUE(anon_code);
+  EXPECT_EQ(*anon_code, 2) << "a participant without credentials found the secure server";
+
+  const auto summary = testing::stop_server_and_read_summary(*server, dir);
+  EXPECT_EQ(summary["clients"].size(), 3u);
+  EXPECT_GE(summary["participants_refused"].get<std::uint64_t>(), 1u) << "the anonymous bots were not counted";
+  const std::string log = testing::read_file(dir / "server.log");
+  EXPECT_NE(log.find("DDS Security refused"), std::string::npos) << log;
+}
+
+TEST(BotsCli, MissingCredentialsAreAClearError) {
+  TempDir dir;
+  ChildProcess bots(kBots, {"--clients", "1", "--domain", "180", "--security", dir.path().string()}, dir / "out", dir / "err");
+  const auto code = bots.wait(std::chrono::seconds(20));
+  ASSERT_TRUE(code);
+  EXPECT_EQ(*code, 1);
+  EXPECT_NE(testing::read_file(dir / "err").find("throng-pki init"), std::string::npos) << testing::read_file(dir / "err");
+}
+
 TEST(BotsCli, RampReportsSteps) {
   constexpr int kDomain = 175;
   TempDir dir;

@@ -280,5 +280,46 @@ TEST(ViewE2E, PageDrawsTheMatchAndKeysMoveTheEntityOnTheServer) {
   EXPECT_EQ((*me)["departure"], "left") << me->dump();
 }
 
+// A match with DDS Security, viewed as a player: throng-view authenticates with the player's
+// identity from a throng-pki directory, joins, gets the partition named after its certificate, and
+// the page draws the match from its own snapshots.
+TEST(ViewE2E, SecureMatchViewedAsAPlayer) {
+  ASSERT_TRUE(std::filesystem::exists(kChromium)) << kChromium << " is missing (bash deploy/install-deps.sh)";
+  constexpr int kSecureDomain = 216;
+  TempDir dir;
+  const std::string pki = (dir / "pki").string();
+  const std::string make = std::string(THRONG_BIN_DIR) + "/throng-pki init " + pki + " >/dev/null 2>&1 && " +
+                           THRONG_BIN_DIR + "/throng-pki client " + pki + " alice >/dev/null 2>&1";
+  ASSERT_EQ(std::system(make.c_str()), 0);
+  ChildProcess server(kServer,
+                      {"--no-log", "--scene", "battle", "--npcs", "300", "--domain", std::to_string(kSecureDomain),
+                       "--admin-port", "-1", "--duration", "60", "--security", pki, "--log-level", "info"},
+                      dir / "server.out", dir / "server.log");
+  ChildProcess view(kView,
+                    {"--domain", std::to_string(kSecureDomain), "--port", "0", "--name", "alice-view", "--quiet",
+                     "--security", pki, "--identity", "alice"},
+                    dir / "view.out", dir / "view.err");
+  std::optional<std::uint16_t> port;
+  ASSERT_TRUE(wait_until([&] { return (port = view_port(dir / "view.out")).has_value(); }, 20s)) << read_file(dir / "view.err");
+  ASSERT_TRUE(wait_until([&] { return read_file(dir / "view.err").find("joined as client") != std::string::npos; }, 30s))
+      << read_file(dir / "view.err") << read_file(dir / "server.log");
+  EXPECT_NE(read_file(dir / "server.log").find("partition throng_p_player-alice_1"), std::string::npos)
+      << read_file(dir / "server.log");
+
+  Chromium chrome = start_chromium(dir);
+  ASSERT_NE(chrome.devtools_port, 0) << read_file(dir / "chrome.err");
+  Cdp cdp("127.0.0.1", chrome.devtools_port, page_target(chrome.devtools_port));
+  cdp.call("Page.enable");
+  cdp.call("Page.navigate", {{"url", "http://127.0.0.1:" + std::to_string(*port) + "/"}});
+  nlohmann::json stats;
+  EXPECT_TRUE(wait_until(
+      [&] {
+        stats = cdp.evaluate("window.throngView ? window.throngView.stats() : null");
+        return stats.is_object() && stats["match"] == true && stats["drawn"].get<int>() > 10 && !stats["self"].is_null();
+      },
+      30s))
+      << "the page never drew the secure match: " << stats.dump() << "\n" << read_file(dir / "view.err");
+}
+
 }  // namespace
 }  // namespace throng::view
