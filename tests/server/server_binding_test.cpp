@@ -23,18 +23,18 @@ std::uint32_t last_applied(TestClient& c) {
 }
 
 TEST(ServerBinding, AnotherParticipantCannotCommandOrKickAClient) {
-  auto options = small_server_options(153);
+  auto options = small_server_options(158);
   nlohmann::json summary;
   {
     ServerThread server(options);
-    TestClient victim(153);
+    TestClient victim(158);
     const auto r = victim.join(9001, "victim");
     ASSERT_TRUE(r && r->result == protocol::JoinResult::accepted);
     victim.transport().send_command(standing(*r, 1));
     ASSERT_TRUE(victim.wait_until([&] { return !victim.snapshots().empty() && victim.snapshots().back().last_applied_sequence == 1; }));
 
     // The attacker learns everything from the public join reply: id, entity, nonce.
-    TestClient attacker(153);
+    TestClient attacker(158);
     ASSERT_TRUE(attacker.transport().wait_for_server(10s));
     ASSERT_TRUE(attacker.wait_until([&] {
       for (const auto& x : attacker.replies())

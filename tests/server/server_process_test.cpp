@@ -108,6 +108,8 @@ TEST(ServerProcess, BadCommandLinesAreRejectedWithAClearMessage) {
       {{"--client-timeout", "inf"}, "--client-timeout"},
       {{"--scene", "/no/such/scene.json"}, "neither a built-in scene"},
       {{"--bogus"}, "bogus"},
+      {{"--security", "/no/such/pki"}, "--security"},
+      {{"--security", dir.path().string()}, "throng-pki init"},  // a directory without the files
   };
   for (const auto& c : cases) {
     std::vector<std::string> args = c.args;
