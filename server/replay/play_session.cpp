@@ -2,6 +2,7 @@
 #include "play_session.h"
 
 #include <algorithm>
+#include <map>
 #include <set>
 
 #include <fmt/format.h>
@@ -15,10 +16,6 @@ namespace {
 // A flood of requests must not grow the inbox without bound (the live server's input queue is
 // bounded too); what is over the cap is dropped and counted.
 constexpr std::size_t kInboxCap = 4096;
-
-// The partition the match gave a client: ClientSummary does not carry it, so after a seek (whose
-// join events the player consumed) it is rebuilt with the match's naming (client_registry.cpp).
-std::string logged_partition(std::uint32_t client_id) { return fmt::format("c{}", client_id); }
 
 double quantile(std::vector<double>& v, double q) {
   if (v.empty()) return 0.0;
@@ -58,8 +55,9 @@ void PlaySession::after_seek(const matchlog::SeekResult& seek) {
     if (totals_.first_mismatch_tick == 0) totals_.first_mismatch_tick = seek.first_mismatch_tick;
     totals_.hash_mismatches += seek.hash_mismatches;
   }
-  std::set<std::uint32_t> connected;
-  for (const auto& c : player_.match().clients()) connected.insert(c.client_id);
+  // After a seek (whose join events the player consumed) the partitions come from the match.
+  std::map<std::uint32_t, std::string> connected;
+  for (const auto& c : player_.match().clients()) connected.emplace(c.client_id, c.partition);
   for (auto it = logged_channels_.begin(); it != logged_channels_.end();) {
     if (connected.count(it->first) == 0) {
       transport_.close_client_channel(it->first);
@@ -68,10 +66,10 @@ void PlaySession::after_seek(const matchlog::SeekResult& seek) {
       ++it;
     }
   }
-  for (std::uint32_t id : connected) {
+  for (const auto& [id, partition] : connected) {
     if (logged_channels_.count(id) != 0) continue;
-    logged_channels_[id] = logged_partition(id);
-    transport_.open_client_channel(id, logged_channels_[id]);
+    logged_channels_[id] = partition;
+    transport_.open_client_channel(id, partition);
   }
   transport_.publish_match_info(player_.match().match_info());
 }

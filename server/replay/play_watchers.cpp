@@ -77,6 +77,7 @@ void Watchers::handle_requests(const std::vector<protocol::JoinRequest>& request
   for (const auto& req : requests) {
     if (req.leave) {
       const auto it = watchers_.find(req.client_id);
+      if (it != watchers_.end() && it->second.owner != req.sender) continue;  // another participant's watcher
       if (it == watchers_.end()) {
         out.replies.push_back(refusal(req.client_nonce, protocol::JoinResult::bad_request,
                                       fmt::format("client {} is not a watcher of this replay", req.client_id), tick));
@@ -93,7 +94,9 @@ void Watchers::handle_requests(const std::vector<protocol::JoinRequest>& request
       continue;
     }
     // A repeated request (the client retrying) gets the same answer, not a second seat.
-    const auto same = std::find_if(watchers_.begin(), watchers_.end(), [&](const auto& w) { return w.second.nonce == req.client_nonce; });
+    const auto same = std::find_if(watchers_.begin(), watchers_.end(), [&](const auto& w) {
+      return w.second.nonce == req.client_nonce && w.second.owner == req.sender;
+    });
     const protocol::JoinResult why = req.protocol_version != protocol::kProtocolVersion ? protocol::JoinResult::bad_version
                                      : req.client_nonce == 0 || req.name.size() > kMaxNameBytes ? protocol::JoinResult::bad_request
                                      : ending                                                ? protocol::JoinResult::shutting_down
@@ -119,9 +122,14 @@ void Watchers::handle_requests(const std::vector<protocol::JoinRequest>& request
       w.name = req.name;
       w.entity = pick_entity(match);
       w.last_heard = now;
+      w.owner = req.sender;
+      // Under DDS Security a watcher may read only partitions named after its certificate, as at
+      // the live server (server/match/src/client_registry.h).
+      w.partition = req.identity.empty() ? fmt::format("w{}", id - kWatcherIdBase)
+                                         : fmt::format("{}{}_{}", protocol::kIdentityPartitionPrefix, req.identity, id);
       builder_.add_client(id);
+      out.channels.push_back({id, w.partition});
       watchers_.emplace(id, std::move(w));
-      out.channels.push_back({id, fmt::format("w{}", id - kWatcherIdBase)});
       ++totals_.joined;
     }
     const Watcher& w = watchers_.at(id);
@@ -131,7 +139,7 @@ void Watchers::handle_requests(const std::vector<protocol::JoinRequest>& request
     r.reason = fmt::format("spectator of a replay: following entity {}; commands are ignored", w.entity);
     r.client_id = id;
     r.entity = w.entity;
-    r.snapshot_partition = fmt::format("w{}", id - kWatcherIdBase);
+    r.snapshot_partition = w.partition;
     r.tick = tick;
     r.faction = faction_of(match.match_info(), w.entity);
     out.replies.push_back(std::move(r));

@@ -77,6 +77,8 @@ class Watchers {
   struct Watcher {
     std::uint64_t nonce = 0;
     std::string name;
+    std::string partition;           // w<n>, or throng_p_<identity>_<id> under DDS Security
+    protocol::ParticipantKey owner;  // only it may make the watcher leave
     std::uint32_t entity = 0;
     Clock::time_point last_heard{};
   };

@@ -52,5 +52,30 @@ TEST(PlayBots, ThrongBotsWatchAPlayingLog) {
   EXPECT_EQ(out.find(" 0 commands ignored"), std::string::npos) << out;
 }
 
+// A replay played with DDS Security: the bot fleet watches it with its identity, each watcher in a
+// partition named after the fleet's certificate (the only ones its permissions let it read).
+TEST(PlayBots, SecureReplayIsWatchedWithTheFleetIdentity) {
+  constexpr int kDomain = 217;
+  test::TempDir dir("throng-play-secure");
+  const auto log = dir / "match.tlog";
+  record_log(log, 300);
+  const std::string pki = (dir / "pki").string();
+  ASSERT_EQ(std::system((std::string(THRONG_BIN_DIR) + "/throng-pki init " + pki + " >/dev/null 2>&1").c_str()), 0);
+  auto player = start_player(log, kDomain, {"--loop", "--security", pki}, dir);
+  const auto report = dir / "bots.json";
+  test::ChildProcess bots(kBots,
+                          {"--clients", "2", "--duration", "3", "--domain", std::to_string(kDomain), "--security", pki,
+                           "--json", report.string(), "--server-wait", "20", "--join-timeout", "20", "-q"},
+                          dir / "bots.out", dir / "bots.err");
+  const auto code = bots.wait(60s);
+  ASSERT_TRUE(code.has_value()) << "throng-bots did not finish";
+  EXPECT_EQ(*code, 0) << test::read_file(dir / "bots.err") << test::read_file(dir / "play.err");
+  const auto j = nlohmann::json::parse(test::read_file(report));
+  EXPECT_EQ(j["joined"], 2);
+  for (const auto& c : j["per_client"]) EXPECT_GT(c["snapshots"]["received"].get<std::uint64_t>(), 10u) << c.dump();
+  player->signal(SIGTERM);
+  EXPECT_EQ(player->wait(20s), 0) << test::read_file(dir / "play.err");
+}
+
 }  // namespace
 }  // namespace throng::play_test

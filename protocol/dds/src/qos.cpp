@@ -55,6 +55,16 @@ void add_security(dds::DomainParticipantQos& qos, const SecurityFiles& f, const 
   set("dds.sec.crypto.plugin", "builtin.AES-GCM-GMAC");
 }
 
+// Fast DDS says no more than "cannot create participant" at its default log level.
+std::string security_refusal(const SecurityFiles& f) {
+  const std::filesystem::path dir = std::filesystem::path(f.identity_ca).parent_path().parent_path();
+  return "Fast DDS refused the DDS Security files (" + f.certificate +
+         " expired or not signed by the identity CA, its key not matching it, or the governance or "
+         "permissions not signed by the permissions CA or not granting this identity now); "
+         "'throng-pki check " + dir.string() + " " + std::filesystem::path(f.certificate).parent_path().string() +
+         "' says which";
+}
+
 }  // namespace
 
 dds::DomainParticipant* create_participant(const TransportOptions& options, dds::DomainParticipantListener* listener) {
@@ -78,10 +88,7 @@ dds::DomainParticipant* create_participant(const TransportOptions& options, dds:
       // readers' own listeners. (Discovery and authentication callbacks are not masked.)
       dds::StatusMask::all() >> dds::StatusMask::data_on_readers());
   if (participant == nullptr)
-    throw TransportError(where + (options.security ? "Fast DDS refused (a security file not accepted: a certificate "
-                                                     "not signed by the identity CA or expired, a permissions or "
-                                                     "governance document not signed by the permissions CA or "
-                                                     "malformed; Fast DDS logged which)"
+    throw TransportError(where + (options.security ? security_refusal(*options.security)
                                                    : "Fast DDS refused (ports in use or transports misconfigured; see its log)"));
   return participant;
 }

@@ -8,7 +8,7 @@
 namespace throng::match {
 
 std::string client_partition(std::uint32_t id, const std::string& identity) {
-  return identity.empty() ? fmt::format("c{}", id) : fmt::format("{}{}_{}", kIdentityPartitionPrefix, identity, id);
+  return identity.empty() ? fmt::format("c{}", id) : fmt::format("{}{}_{}", protocol::kIdentityPartitionPrefix, identity, id);
 }
 
 ClientRecord& ClientRegistry::add(std::uint64_t nonce, std::string name, const protocol::ParticipantKey& owner,

@@ -14,10 +14,8 @@
 
 namespace throng::match {
 
-// Snapshot partitions of clients whose join carried an authenticated identity (DDS Security):
-// throng_p_<identity>_<client id>. A player's permissions grant it throng_p_<its name>_*, which
-// they can name before the join; without an identity the partition is c<client id>.
-inline constexpr const char* kIdentityPartitionPrefix = "throng_p_";
+// protocol::kIdentityPartitionPrefix + identity + "_" + id when the join carried an authenticated
+// identity (DDS Security), else c<client id>.
 std::string client_partition(std::uint32_t id, const std::string& identity);
 
 struct ClientRecord {

@@ -155,7 +155,7 @@ std::vector<ClientSummary> Match::clients() const {
   for (std::uint32_t id : impl_->clients.connected_ids()) {
     const ClientRecord* c = impl_->clients.find(id);
     out.push_back(ClientSummary{c->id, c->entity.value, c->name, c->last_applied_sequence, c->joined_tick,
-                                c->commands_accepted, c->commands_rejected});
+                                c->commands_accepted, c->commands_rejected, c->partition});
   }
   return out;
 }

@@ -40,6 +40,12 @@ struct ParticipantKey {
   auto operator<=>(const ParticipantKey&) const = default;
 };
 
+// Snapshot partitions of clients whose join carried an authenticated identity (DDS Security):
+// kIdentityPartitionPrefix + certificate CN + "_" + client id in decimal, e.g.
+// throng_p_player-alice_7. A player's permissions (throng-pki) grant it exactly these names, which
+// can be written before the join.
+inline constexpr const char* kIdentityPartitionPrefix = "throng_p_";
+
 // --- join / leave (client -> server, reliable) ----------------------------------------------
 struct JoinRequest {
   std::uint64_t client_nonce = 0;  // random per client process+bot; keys the reply

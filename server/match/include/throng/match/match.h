@@ -146,6 +146,7 @@ struct ClientSummary {
   std::uint64_t joined_tick = 0;
   std::uint64_t commands_accepted = 0;  // commands carrying this client_id, by outcome
   std::uint64_t commands_rejected = 0;  //   (unknown_client rejections belong to no client)
+  std::string partition;                // the client's snapshot partition (JoinReply::snapshot_partition)
 };
 
 class Match {
