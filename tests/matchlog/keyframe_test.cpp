@@ -109,7 +109,12 @@ TEST(Keyframes, WriterBehindDropsKeyframesLoudlyNotTicks) {
   o.poll_ms = 3000;  // the writer thread sleeps through the whole match (close() wakes it)
   MatchLogWriter w(path.string(), o);
   w.begin(test::match_header());
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));  // its first look found nothing; now it sleeps
+  // Wait for the writer's first look (it finds nothing and sleeps for poll_ms), however loaded the
+  // machine: only then is every keyframe below appended while it sleeps.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (w.stats().writer_sleeps == 0 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  ASSERT_GE(w.stats().writer_sleeps, 1u) << "the writer thread never went idle";
   const auto& p = played();
   for (const TickRecord& t : p.ticks) {
     w.append_tick(t.tick, t.inputs, t.state_hash, t.flags);

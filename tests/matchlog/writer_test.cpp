@@ -2,6 +2,7 @@
 // fsyncs per policy, and a kill -9 mid-match leaves a log that verifies up to its last complete tick.
 #include <gtest/gtest.h>
 
+#include <poll.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -146,36 +147,54 @@ TEST(Writer, DiskFullIsReportedNotHidden) {
 TEST(Writer, KillNineMidMatchLeavesALogThatVerifiesToItsLastCompleteTick) {
   const auto played = test::play_match(240);
   const auto path = test::test_dir() / "killed.tlog";
+  // The child says (over a pipe) when its writer has handed kWrittenBeforeKill ticks to the OS;
+  // the parent kills it then, mid-match, however slow the machine is.
+  constexpr std::uint64_t kWrittenBeforeKill = 60;
+  int ready[2];
+  ASSERT_EQ(::pipe(ready), 0);
   std::fflush(nullptr);
   const pid_t child = ::fork();
   ASSERT_GE(child, 0);
   if (child == 0) {
     // The "server": paced ticks, the writer as the server uses it; never closes.
+    ::close(ready[0]);
     MatchLogWriter w(path.string());
     w.begin(test::match_header());
+    bool told = false;
     for (const TickRecord& t : played.ticks) {
       w.append_tick(t.tick, t.inputs, t.state_hash, t.flags);
       std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      if (!told && w.stats().ticks_written >= kWrittenBeforeKill) {
+        told = ::write(ready[1], "k", 1) == 1;
+      }
     }
+    while (!told && w.stats().ticks_written < kWrittenBeforeKill) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    if (!told) (void)!::write(ready[1], "k", 1);
     std::this_thread::sleep_for(std::chrono::seconds(30));
     ::_exit(0);
   }
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ::close(ready[1]);
+  pollfd pfd{ready[0], POLLIN, 0};
+  const int polled = ::poll(&pfd, 1, 60'000);
+  char byte = 0;
+  const bool signalled = polled == 1 && ::read(ready[0], &byte, 1) == 1;
+  ::close(ready[0]);
   ::kill(child, SIGKILL);
   int status = 0;
   ::waitpid(child, &status, 0);
   ASSERT_TRUE(WIFSIGNALED(status));
+  ASSERT_TRUE(signalled) << "the child never reported " << kWrittenBeforeKill << " ticks written";
 
   MatchLogReader r(path.string());
   const LogScan& s = r.scan();
   EXPECT_NE(s.end, LogEnd::closed);
   EXPECT_NE(s.end, LogEnd::corrupt) << s.problem;
-  EXPECT_GT(s.ticks, 0u);
+  EXPECT_GE(s.ticks, kWrittenBeforeKill) << "ticks handed to the OS before the kill were lost";
   EXPECT_FALSE(s.problem.empty());
   const VerifyResult v = verify_log(r);
   EXPECT_TRUE(v.all_match());
   EXPECT_EQ(v.ticks_verified, s.ticks);
-  std::printf("killed after ~300 ms: %llu ticks kept (%s)\n", static_cast<unsigned long long>(s.ticks), s.problem.c_str());
+  std::printf("killed after %llu ticks written: %llu ticks kept (%s)\n", static_cast<unsigned long long>(kWrittenBeforeKill), static_cast<unsigned long long>(s.ticks), s.problem.c_str());
 }
 
 }  // namespace

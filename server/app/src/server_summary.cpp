@@ -88,6 +88,13 @@ std::string format_summary(const nlohmann::json& s) {
     if (v.get<std::uint64_t>() > 0) reasons += fmt::format(" {}={}", k, v.get<std::uint64_t>());
   line(fmt::format("commands accepted {}  rejected {}{}", s["commands_accepted"].get<std::uint64_t>(),
                    s["commands_rejected"].get<std::uint64_t>(), reasons.empty() ? "" : " (" + reasons.substr(1) + ")"));
+  const auto foreign = s["joins_foreign_participant"].get<std::uint64_t>();
+  const auto not_operator = s["param_updates_not_operator"].get<std::uint64_t>();
+  const auto refused = s["participants_refused"].get<std::uint64_t>();
+  if (foreign + not_operator + refused > 0)
+    line(fmt::format("refused  {} joins/leaves for another participant's client, {} parameter changes from non-operators, "
+                     "{} participants by DDS Security",
+                     foreign, not_operator, refused));
   const auto& sn = s["snapshots"];
   line(fmt::format("snapshots {} samples, {} poses, {:.2f} bytes/pose, {:.0f} bytes/sample, {:.0f} kbit/s total",
                    sn["samples"].get<std::uint64_t>(), sn["poses"].get<std::uint64_t>(), sn["bytes_per_pose"].get<double>(),

@@ -481,6 +481,7 @@ void MatchLogWriter::run() {
                            std::chrono::milliseconds(1), timeout);
     }
     std::unique_lock<std::mutex> lock(wake_mutex_);
+    sleeps_.fetch_add(1, std::memory_order_release);
     wake_.wait_for(lock, timeout);
   }
   flush_block();
@@ -528,6 +529,7 @@ WriterStats MatchLogWriter::stats() const {
   s.raw_tick_bytes = raw_bytes_.load(std::memory_order_relaxed);
   s.records = records_.load(std::memory_order_relaxed);
   s.fsyncs = fsyncs_.load(std::memory_order_relaxed);
+  s.writer_sleeps = sleeps_.load(std::memory_order_acquire);
   s.max_fsync_ms = static_cast<double>(max_fsync_ns_.load(std::memory_order_relaxed)) / 1e6;
   s.max_append_us = static_cast<double>(max_append_ns_.load(std::memory_order_relaxed)) / 1e3;
   if (hist_) {

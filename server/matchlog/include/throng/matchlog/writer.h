@@ -103,6 +103,9 @@ struct WriterStats {
   std::uint64_t raw_tick_bytes = 0;   // tick entries before compression
   std::uint64_t records = 0;
   std::uint64_t fsyncs = 0;
+  // Times the writer thread had nothing left to do and went to sleep until the next poll: lets a
+  // test wait for it to be idle instead of guessing with a sleep.
+  std::uint64_t writer_sleeps = 0;
   double max_fsync_ms = 0;
   double max_append_us = 0;
   double p99_append_us = 0;           // from a 0.1 µs histogram up to 100 µs (beyond: max)
@@ -232,6 +235,7 @@ class MatchLogWriter {
   std::atomic<std::uint64_t> appended_{0}, written_{0}, dropped_{0}, spilled_{0};
   std::atomic<std::uint64_t> backlog_high_{0};
   std::atomic<std::uint64_t> bytes_{0}, raw_bytes_{0}, records_{0}, fsyncs_{0};
+  std::atomic<std::uint64_t> sleeps_{0};
   std::atomic<std::uint64_t> max_fsync_ns_{0}, max_append_ns_{0};
   std::atomic<std::uint64_t> kf_appended_{0}, kf_written_{0}, kf_dropped_{0}, kf_bytes_{0}, kf_raw_bytes_{0}, max_kf_append_ns_{0};
   static constexpr std::size_t kHistBins = 1000;  // 0.1 µs bins, 0..100 µs
