@@ -1,6 +1,7 @@
 // throng-bench: runs scenes headless and measures speed and residual error.
 //
 //   throng-bench --scene crush --agents 50000 --ticks 300 --json
+//   throng-bench --scene crush_post --agents 5000 --trace crush_post.csv
 //   throng-bench --dump-scene street > street.json
 //   throng-bench sweep --out sweep-out [--quick]
 //
@@ -41,6 +42,9 @@ struct Cli {
   std::size_t validate_pairs = 100000;
   std::uint64_t validate_seed = 1;
   bool sweep_quick = false;
+  std::uint64_t residual_from = 61;
+  std::string trace;
+  double carry = -1.0;  // < 0: the scene's blocked_motion_carry
 };
 
 // The scene the flags describe: built-in or file, then --agents / --iterations / --policy / --params.
@@ -49,6 +53,7 @@ throng::scene::SceneDef scene_from_flags(const std::string& name, const Cli& c, 
   if (def.name.empty()) def.name = name;  // reports name the scene even when the file does not
   if (app.count("--agents")) def = throng::scene::scale_scene(def, c.agents);
   if (app.count("--iterations")) def.settings.iterations = c.iterations;
+  if (app.count("--carry")) def.settings.blocked_motion_carry = c.carry;
   if (!c.policy.empty()) def.policy = {c.policy, nullptr};
   if (!c.params.empty()) def.params = {c.params, nullptr};
   return def;
@@ -67,6 +72,8 @@ int run(const Cli& c, const CLI::App& app) {
   throng::bench::RunOptions options;
   options.ticks = app.count("--ticks") ? c.ticks : def.ticks;
   options.warmup = c.warmup;
+  options.residual_from = c.residual_from;
+  options.trace_path = c.trace;
   const auto result = throng::bench::run_scene(def, options);
   if (c.json)
     std::cout << throng::bench::to_json(result).dump() << "\n";
@@ -93,6 +100,16 @@ int main(int argc, char** argv) {
   app.add_flag("--json", c.json, "print exactly one JSON object on stdout instead of the summary");
   app.add_option("--warmup", c.warmup, "ticks run before the measured ones, left out of the timings")
       ->check(CLI::Range(std::uint64_t{0}, std::uint64_t{100'000'000}));
+  app.add_option("--carry", c.carry,
+                 "blocked_motion_carry for this run (0: every agent steps its full speed into the jam every tick, as "
+                 "in other engines; default: the scene's)")
+      ->check(CLI::Range(0.0, 1.0));
+  app.add_option("--residual-from", c.residual_from,
+                 "measure the residual every tick from this one (counted from 1, warm-up included) and report the "
+                 "worst; 0 = only after the last tick")
+      ->capture_default_str()
+      ->check(CLI::Range(std::uint64_t{0}, std::uint64_t{100'000'000}));
+  app.add_option("--trace", c.trace, "write one CSV line per measured tick to FILE (tick, tick us, residual max/p99, ...)");
   app.add_option("--dump-scene", c.dump, "print scene NAME (built-in or file, --agents applied) as JSON and exit");
   app.add_flag("--list-scenes", c.list, "list the built-in scenes and exit");
 

@@ -21,6 +21,11 @@ void print_summary(std::FILE* out, const RunResult& r) {
   fmt::print(out, "residual   max pen/r {:.4g}, p99 pen/r {:.4g}, {} pairs over 1% (independent check, {} pair tests)\n",
              r.residual.max_pen_over_radius, r.residual.p99_pen_over_radius, r.residual.pairs_over_1pct,
              r.residual.pair_tests);
+  const ResidualOverTime& o = r.residual_over_time;
+  if (o.ticks_measured > 0)
+    fmt::print(out, "worst tick max pen/r {:.4g} (tick {}), worst p99 pen/r {:.4g}, {} ticks over 0.5 r (ticks {}..{})\n",
+               o.worst_max_pen_over_radius, o.worst_max_tick, o.worst_p99_pen_over_radius, o.ticks_over_0_5_r, o.from_tick,
+               o.from_tick + o.ticks_measured - 1);
   fmt::print(out, "scenery    max pen/r {:.4g}\n", r.static_pen_max_over_radius);
   fmt::print(out, "nan        {}\n", r.residual.nan_count);
   fmt::print(out, "hash       {}\n", hash_hex(r.state_hash));

@@ -1,6 +1,8 @@
 #pragma once
-// Runs one scene headless and collects what the bench reports: per-tick timings from StepStats,
-// then, after the last tick, the independent residual metrics, the state hash and NaN count.
+// Runs one scene headless and collects what the bench reports: per-tick timings from StepStats;
+// the independent residual metric every tick from residual_from on (a player sees every tick, not
+// only the last), measured outside the timed step; and after the last tick the residual again,
+// the state hash and NaN count.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -16,7 +18,25 @@ struct RunOptions {
   std::uint64_t ticks = 0;   // measured ticks
   std::uint64_t warmup = 0;  // ticks run first and left out of the timing statistics
   bool progress = true;      // progress lines on stderr for long runs
+  // First tick (counted from 1, warm-up included) whose residual is measured; 0 = only after the
+  // last tick. The default leaves out the first two seconds of a crowd converging.
+  std::uint64_t residual_from = 61;
+  std::string trace_path;    // non-empty: one CSV line per tick (trace_header() names the columns)
 };
+
+// The worst tick, not the last: over every tick from RunOptions::residual_from.
+struct ResidualOverTime {
+  std::uint64_t from_tick = 0;
+  std::uint64_t ticks_measured = 0;
+  double worst_max_pen_over_radius = 0.0;
+  std::uint64_t worst_max_tick = 0;  // the tick that had it
+  double worst_p99_pen_over_radius = 0.0;
+  std::uint64_t ticks_over_0_5_r = 0;  // ticks whose max pen/r exceeded 0.5
+};
+
+// The CSV columns --trace writes.
+inline constexpr const char* kTraceHeader =
+    "tick,tick_us,max_pen_over_radius,p99_pen_over_radius,pairs_over_1pct,solver_max_pen_over_radius";
 
 struct Percentiles {
   double median = 0.0;
@@ -51,7 +71,8 @@ struct RunResult {
   std::uint64_t capped_bodies_max = 0;
   std::uint64_t tunnel_clamps_total = 0;
   double solver_max_pen_over_radius_last = 0.0;  // the solver's own figure, for comparison
-  scene::ResidualStats residual;
+  scene::ResidualStats residual;  // after the last tick
+  ResidualOverTime residual_over_time;
   double static_pen_max_over_radius = 0.0;
   std::uint64_t state_hash = 0;
   double build_s = 0.0;

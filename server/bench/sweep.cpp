@@ -15,22 +15,26 @@
 namespace throng::bench {
 namespace {
 
-RunResult run_crush_like(const std::string& name, std::uint64_t agents, std::uint32_t iterations, std::uint64_t ticks) {
+RunResult run_crush_like(const std::string& name, std::uint64_t agents, std::uint32_t iterations, const SweepPlan& plan) {
   scene::SceneDef def = scene::scale_scene(scene::builtin_scene(name), agents);
   def.settings.iterations = iterations;
-  fmt::print(stderr, "sweep: {} N={} K={} ({} ticks)\n", name, agents, iterations, ticks);
-  return run_scene(def, RunOptions{ticks, 0, true});
+  fmt::print(stderr, "sweep: {} N={} K={} ({} ticks)\n", name, agents, iterations, plan.ticks);
+  RunOptions o;
+  o.ticks = plan.ticks;
+  o.residual_from = plan.residual_from;
+  return run_scene(def, o);
 }
 
 void print_row(const std::string& key, const RunResult& r) {
-  fmt::print("{:>10} {:>7} {:>4} {:>11.0f} {:>10.0f} {:>9.3f} {:>10.4g} {:>10.4g} {:>9}\n", key, r.agents, r.iterations,
-             r.tick_us.median, r.tick_us.p95, r.us_per_agent(), r.residual.max_pen_over_radius,
-             r.residual.p99_pen_over_radius, r.residual.pairs_over_1pct);
+  fmt::print("{:>10} {:>7} {:>4} {:>11.0f} {:>10.0f} {:>9.3f} {:>10.4g} {:>10.4g} {:>9} {:>11.4g} {:>11.4g}\n", key,
+             r.agents, r.iterations, r.tick_us.median, r.tick_us.p95, r.us_per_agent(), r.residual.max_pen_over_radius,
+             r.residual.p99_pen_over_radius, r.residual.pairs_over_1pct, r.residual_over_time.worst_max_pen_over_radius,
+             r.residual_over_time.worst_p99_pen_over_radius);
 }
 
 void print_header(const std::string& title) {
-  fmt::print("\n{}\n{:>10} {:>7} {:>4} {:>11} {:>10} {:>9} {:>10} {:>10} {:>9}\n", title, "", "N", "K", "median us",
-             "p95 us", "us/agent", "max pen/r", "p99 pen/r", "pairs>1%");
+  fmt::print("\n{}\n{:>10} {:>7} {:>4} {:>11} {:>10} {:>9} {:>10} {:>10} {:>9} {:>11} {:>11}\n", title, "", "N", "K",
+             "median us", "p95 us", "us/agent", "max pen/r", "p99 pen/r", "pairs>1%", "worst max", "worst p99");
 }
 
 std::string plot(const std::vector<RunResult>& k_runs, const std::vector<RunResult>& n_runs, const RunResult& one_cell,
@@ -41,14 +45,18 @@ std::string plot(const std::vector<RunResult>& k_runs, const std::vector<RunResu
   err.y_label = "penetration / smaller radius (log)";
   err.log_y = true;
   err.x_from_zero = true;
-  err.note = "after the last tick; a zero residual is drawn at the axis floor";
-  Series mx{"max pen / r", "#c0392b", Marker::circle, true, {}};
-  Series p99{"p99 pen / r", "#2471a3", Marker::square, true, {}};
+  err.note = "last tick and worst tick (from the residual's first measured tick); a zero residual is drawn at the axis floor";
+  Series mx{"max pen / r, last tick", "#c0392b", Marker::circle, true, {}};
+  Series p99{"p99 pen / r, last tick", "#2471a3", Marker::square, true, {}};
+  Series worst_mx{"max pen / r, worst tick", "#e67e22", Marker::diamond, true, {}};
+  Series worst_p99{"p99 pen / r, worst tick", "#5dade2", Marker::diamond, true, {}};
   for (const auto& r : k_runs) {
     mx.points.push_back({r.tick_us.median, r.residual.max_pen_over_radius, fmt::format("K={}", r.iterations)});
     p99.points.push_back({r.tick_us.median, r.residual.p99_pen_over_radius, ""});
+    worst_mx.points.push_back({r.tick_us.median, r.residual_over_time.worst_max_pen_over_radius, ""});
+    worst_p99.points.push_back({r.tick_us.median, r.residual_over_time.worst_p99_pen_over_radius, ""});
   }
-  err.series = {mx, p99};
+  err.series = {mx, p99, worst_mx, worst_p99};
 
   Panel cost;
   cost.title = fmt::format("Cost per agent vs N (crush, K={})", n_runs.empty() ? 0 : n_runs.front().iterations);
@@ -87,21 +95,23 @@ SweepPlan sweep_plan(bool quick) {
   p.agents = {500, 1'000, 2'000};
   p.ticks = 20;
   p.one_cell_agents = 2'000;
+  p.residual_from = 10;
   return p;
 }
 
 int run_sweep(const SweepPlan& plan, const std::string& out_dir) {
   const std::uint32_t default_k = scene::builtin_scene("crush").settings.iterations;
   std::vector<RunResult> k_runs, n_runs;
-  for (const std::uint32_t k : plan.iterations) k_runs.push_back(run_crush_like("crush", plan.k_agents, k, plan.ticks));
-  for (const std::uint64_t n : plan.agents) n_runs.push_back(run_crush_like("crush", n, default_k, plan.ticks));
-  const RunResult heap = run_crush_like("one_cell", plan.one_cell_agents, default_k, plan.ticks);
+  for (const std::uint32_t k : plan.iterations) k_runs.push_back(run_crush_like("crush", plan.k_agents, k, plan));
+  for (const std::uint64_t n : plan.agents) n_runs.push_back(run_crush_like("crush", n, default_k, plan));
+  const RunResult heap = run_crush_like("one_cell", plan.one_cell_agents, default_k, plan);
   const RunResult* uniform = nullptr;
   for (const auto& r : n_runs)
     if (r.agents == plan.one_cell_agents) uniform = &r;
   const double ratio = uniform && uniform->us_per_agent() > 0.0 ? heap.us_per_agent() / uniform->us_per_agent() : 0.0;
 
-  fmt::print("crush sweep, {} ticks per run (pen/r measured after the last tick)\n", plan.ticks);
+  fmt::print("crush sweep, {} ticks per run (pen/r after the last tick; worst: the largest over ticks {}..{})\n", plan.ticks,
+             plan.residual_from, plan.ticks);
   print_header("iterations K at fixed N");
   for (const auto& r : k_runs) print_row(fmt::format("K={}", r.iterations), r);
   print_header("agents N at the default K");

@@ -16,6 +16,7 @@ struct SweepPlan {
   std::vector<std::uint64_t> agents;      // N values
   std::uint64_t ticks = 300;
   std::uint64_t one_cell_agents = 20'000;  // must be one of `agents` (the uniform reference)
+  std::uint64_t residual_from = 61;        // the worst tick is taken from this tick on
 };
 
 // quick: a CI smoke test (seconds, not minutes) with the same structure.

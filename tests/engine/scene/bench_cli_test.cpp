@@ -70,7 +70,8 @@ TEST_F(BenchCli, HelpExitsZero) {
 }
 
 TEST_F(BenchCli, BadFlagsExitTwo) {
-  for (const char* args : {"--agents 0", "--ticks abc", "--iterations 999", "--no-such-flag", "--policy /nonexistent.json"}) {
+  for (const char* args : {"--agents 0", "--ticks abc", "--iterations 999", "--no-such-flag", "--policy /nonexistent.json",
+                           "--carry 1.5", "--carry nan", "--residual-from -1"}) {
     const auto r = run(args);
     EXPECT_EQ(r.code, 2) << args << ": " << r.err;
     EXPECT_FALSE(r.err.empty()) << args;
@@ -105,6 +106,50 @@ TEST_F(BenchCli, JsonIsOneObjectWithTheReportedFields) {
   EXPECT_TRUE(j.contains("static_pen_max_over_radius"));
   EXPECT_EQ(j["nan_count"], 0);
   EXPECT_EQ(j["state_hash"].get<std::string>().size(), 16u);
+}
+
+// The worst tick, not the last: the residual measured every tick from --residual-from, and the
+// same figures one CSV line per tick with --trace (whose worst line is the JSON's worst tick).
+TEST_F(BenchCli, ResidualOverTimeAndTraceAgree) {
+  const fs::path trace = temp_dir() / "trace.csv";
+  const auto r = run("--scene " + std::string(THRONG_SOURCE_DIR) +
+                     "/server/engine/data/scenes/crush_post.json --agents 400 --ticks 30 --residual-from 11 --carry 0 "
+                     "--json --trace " + trace.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  const auto& o = j["residual_over_time"];
+  EXPECT_EQ(o["from_tick"], 11);
+  EXPECT_EQ(o["ticks_measured"], 20);
+  std::ifstream in(trace);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line.rfind("tick,tick_us,max_pen_over_radius", 0), 0u) << line;
+  double worst = -1.0;
+  std::uint64_t worst_tick = 0, lines = 0, last_tick = 0;
+  while (std::getline(in, line)) {
+    std::stringstream ss(line);
+    std::string tick, tick_us, max_pen;
+    std::getline(ss, tick, ',');
+    std::getline(ss, tick_us, ',');
+    std::getline(ss, max_pen, ',');
+    ++lines;
+    last_tick = std::stoull(tick);
+    if (std::stod(max_pen) > worst) {
+      worst = std::stod(max_pen);
+      worst_tick = last_tick;
+    }
+  }
+  EXPECT_EQ(lines, 20u);
+  EXPECT_EQ(last_tick, 30u);
+  EXPECT_EQ(o["worst_max_tick"], worst_tick);
+  EXPECT_NEAR(o["worst_max_pen_over_radius"].get<double>(), worst, 1e-5 * std::max(1.0, worst));
+  EXPECT_GE(o["worst_max_pen_over_radius"].get<double>(), j["residual"]["max_pen_over_radius"].get<double>())
+      << "the last tick is one of the measured ones";
+  EXPECT_GE(o["worst_p99_pen_over_radius"].get<double>(), j["residual"]["p99_pen_over_radius"].get<double>());
+
+  const auto off = run("--scene crush --agents 300 --ticks 5 --residual-from 0 --json");
+  ASSERT_EQ(off.code, 0) << off.err;
+  EXPECT_EQ(nlohmann::json::parse(off.out)["residual_over_time"]["ticks_measured"], 0);
 }
 
 TEST_F(BenchCli, DumpedSceneRunsToTheSameHash) {
