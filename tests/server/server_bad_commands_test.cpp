@@ -15,17 +15,6 @@
 namespace throng::test {
 namespace {
 
-protocol::Command valid(const protocol::JoinReply& r, std::uint32_t seq) {
-  protocol::Command c;
-  c.client_id = r.client_id;
-  c.entity = r.entity;
-  c.sequence = seq;
-  c.camera_x = 0.0f;  // a fixed camera, so repeated valid commands are no-ops on the world
-  c.camera_y = 0.0f;
-  c.camera_z = 10.0f;
-  return c;
-}
-
 TEST(ServerBadCommands, EveryBadCommandIsRejectedByReasonAndChangesNothing) {
   auto options = small_server_options(145);
   options.match.max_commands_per_tick = 1;
@@ -47,28 +36,28 @@ TEST(ServerBadCommands, EveryBadCommandIsRejectedByReasonAndChangesNothing) {
       std::this_thread::sleep_for(5ms);
     };
     // One valid command (zero move, fixed camera); learn the tick it was applied in.
-    send(valid(reply, 1));
+    send(standing_command(reply, 1));
     ASSERT_TRUE(client.wait_until([&] { return client.snapshots().back().last_applied_sequence == 1; }));
     applied_tick = client.with_lock([&] { return client.snapshots().back().last_applied_tick; });
     std::this_thread::sleep_for(100ms);
 
     const float nan = std::numeric_limits<float>::quiet_NaN();
     const float inf = std::numeric_limits<float>::infinity();
-    auto c = valid(reply, 100);
+    auto c = standing_command(reply, 100);
     c.move_x = nan;                         send(c);  // non_finite
-    c = valid(reply, 101); c.camera_z = inf; send(c);  // non_finite
-    c = valid(reply, 102); c.move_x = 0.9f; c.move_y = 0.9f; send(c);  // move_out_of_range (|m| = 1.27)
-    c = valid(reply, 103); c.facing_rad = 4.0f;  send(c);   // facing_out_of_range
-    c = valid(reply, 104); c.camera_x = 1e9f;    send(c);   // camera_out_of_range
-    c = valid(reply, 105); c.actions = 1u << 7;  send(c);   // bad_actions
-    c = valid(reply, 106); c.client_id = 999;    send(c);   // unknown_client
-    c = valid(reply, 107); c.entity = reply.entity + 1; send(c);  // not_your_entity
-    c = valid(reply, 1);                          send(c);   // duplicate_sequence
-    c = valid(reply, 0);                          send(c);   // stale_sequence
+    c = standing_command(reply, 101); c.camera_z = inf; send(c);  // non_finite
+    c = standing_command(reply, 102); c.move_x = 0.9f; c.move_y = 0.9f; send(c);  // move_out_of_range (|m| = 1.27)
+    c = standing_command(reply, 103); c.facing_rad = 4.0f;  send(c);   // facing_out_of_range
+    c = standing_command(reply, 104); c.camera_x = 1e9f;    send(c);   // camera_out_of_range
+    c = standing_command(reply, 105); c.actions = 1u << 7;  send(c);   // bad_actions
+    c = standing_command(reply, 106); c.client_id = 999;    send(c);   // unknown_client
+    c = standing_command(reply, 107); c.entity = reply.entity + 1; send(c);  // not_your_entity
+    c = standing_command(reply, 1);                          send(c);   // duplicate_sequence
+    c = standing_command(reply, 0);                          send(c);   // stale_sequence
     // foreign_participant: mallory's own id, entity and a fresh sequence, from another participant.
     TestClient stranger(145);
     ASSERT_TRUE(stranger.transport().wait_for_server(10s));
-    c = valid(reply, 108); c.move_x = 1.0f;
+    c = standing_command(reply, 108); c.move_x = 1.0f;
     stranger.transport().send_command(c);
     ++sent;
     std::this_thread::sleep_for(300ms);
@@ -107,7 +96,7 @@ TEST(ServerBadCommands, EveryBadCommandIsRejectedByReasonAndChangesNothing) {
       j.name = "mallory";
       offline.inputs().push(std::move(j));
     }
-    if (t == *applied_tick) offline.inputs().push(valid(reply, 1));
+    if (t == *applied_tick) offline.inputs().push(standing_command(reply, 1));
     if (t == ticks) offline.begin_shutdown();
     offline.tick(out);
   }
@@ -125,7 +114,7 @@ TEST(ServerBadCommands, MoreCommandsThanTheRateLimitInOneTickAreRejected) {
   std::uint64_t sent = 0;
   std::uint32_t seq = 0;
   for (int burst = 0; burst < 5; ++burst) {
-    for (int i = 0; i < 4; ++i, ++sent) client.transport().send_command(valid(*r, ++seq));
+    for (int i = 0; i < 4; ++i, ++sent) client.transport().send_command(standing_command(*r, ++seq));
     std::this_thread::sleep_for(100ms);
   }
   std::this_thread::sleep_for(200ms);

@@ -9,19 +9,6 @@
 namespace throng::test {
 namespace {
 
-protocol::Command standing(const protocol::JoinReply& r, std::uint32_t seq) {
-  protocol::Command c;
-  c.client_id = r.client_id;
-  c.entity = r.entity;
-  c.sequence = seq;
-  c.camera_z = 10.0f;
-  return c;
-}
-
-std::uint32_t last_applied(TestClient& c) {
-  return c.with_lock([&] { return c.snapshots().empty() ? 0u : c.snapshots().back().last_applied_sequence; });
-}
-
 TEST(ServerBinding, AnotherParticipantCannotCommandOrKickAClient) {
   auto options = small_server_options(158);
   nlohmann::json summary;
@@ -30,7 +17,7 @@ TEST(ServerBinding, AnotherParticipantCannotCommandOrKickAClient) {
     TestClient victim(158);
     const auto r = victim.join(9001, "victim");
     ASSERT_TRUE(r && r->result == protocol::JoinResult::accepted);
-    victim.transport().send_command(standing(*r, 1));
+    victim.transport().send_command(standing_command(*r, 1));
     ASSERT_TRUE(victim.wait_until([&] { return !victim.snapshots().empty() && victim.snapshots().back().last_applied_sequence == 1; }));
 
     // The attacker learns everything from the public join reply: id, entity, nonce.
@@ -41,23 +28,12 @@ TEST(ServerBinding, AnotherParticipantCannotCommandOrKickAClient) {
         if (x.client_nonce == 9001) return true;
       return false;
     }));
-    for (std::uint32_t k = 0; k < 20; ++k) {
-      protocol::Command c = standing(*r, 1000 + k);  // far ahead of the victim's sequence
-      c.move_x = 1.0f;
-      attacker.transport().send_command(c);
-      std::this_thread::sleep_for(5ms);
-    }
-    protocol::JoinRequest kick;
-    kick.client_nonce = 9001;
-    kick.leave = true;
-    kick.client_id = r->client_id;
-    attacker.transport().send_join(kick);
-    std::this_thread::sleep_for(300ms);
+    hijack_and_kick(attacker.transport(), *r, 20, 1000);
 
     // The victim still controls its character: its next sequence is applied.
-    victim.transport().send_command(standing(*r, 2));
+    victim.transport().send_command(standing_command(*r, 2));
     EXPECT_TRUE(victim.wait_until([&] { return !victim.snapshots().empty() && victim.snapshots().back().last_applied_sequence == 2; }))
-        << "last applied " << last_applied(victim);
+        << "last applied " << victim.with_lock([&] { return last_applied(victim.snapshots(), r->client_id); });
     const bool told_left = victim.with_lock([&] {
       for (const auto& x : victim.replies())
         if (x.client_nonce == 9001 && x.result != protocol::JoinResult::accepted) return true;

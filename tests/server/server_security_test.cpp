@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <random>
 
 #include "server_test_support.h"
@@ -62,94 +63,9 @@ protocol::TransportOptions secure(int domain, const std::string& identity, const
   return t;
 }
 
-// A client with credentials; records what it receives, like TestClient.
-class SecureClient {
- public:
-  SecureClient(int domain, const std::string& identity, const fs::path& dir) : transport_(secure(domain, identity, dir, identity)) {
-    transport_.start(protocol::ClientTransport::Handlers{
-        [this](protocol::MatchInfo&& m) { locked([&] { infos_.push_back(std::move(m)); }); },
-        [this](protocol::JoinReply&& r) { locked([&] { replies_.push_back(std::move(r)); }); },
-        [this](protocol::ParamReply&& r) { locked([&] { param_replies_.push_back(std::move(r)); }); },
-        [](protocol::ServerStats&&) {},
-    });
-  }
-  protocol::ClientTransport& transport() { return transport_; }
-
-  std::optional<protocol::JoinReply> join(std::uint64_t nonce) {
-    if (!transport_.wait_for_server(20s)) return std::nullopt;
-    protocol::JoinRequest r;
-    r.client_nonce = nonce;
-    r.name = "secure";
-    transport_.send_join(r);
-    std::optional<protocol::JoinReply> reply;
-    wait_until([&] {
-      for (const auto& x : replies_)
-        if (x.client_nonce == nonce) reply = x;
-      return reply.has_value();
-    });
-    return reply;
-  }
-  void subscribe(std::uint32_t client_id, const std::string& partition) {
-    transport_.subscribe_snapshots(client_id, partition, [this](protocol::Snapshot&& s, std::size_t) {
-      locked([&] { snapshots_.push_back(std::move(s)); });
-    });
-  }
-  bool wait_until(const std::function<bool()>& pred, std::chrono::milliseconds timeout = 20s) {
-    std::unique_lock lock(mutex_);
-    return cv_.wait_for(lock, timeout, pred);
-  }
-  // Locked reads for the test body; the *_unlocked ones are for wait_until's predicate (which runs
-  // under the lock).
-  std::size_t snapshots_of(std::uint32_t client_id) {
-    std::lock_guard lock(mutex_);
-    return snapshots_of_unlocked(client_id);
-  }
-  std::size_t snapshots_of_unlocked(std::uint32_t client_id) const {
-    std::size_t n = 0;
-    for (const auto& s : snapshots_) n += s.client_id == client_id;
-    return n;
-  }
-  std::uint32_t last_applied_unlocked(std::uint32_t client_id) const {
-    std::uint32_t seq = 0;
-    for (const auto& s : snapshots_)
-      if (s.client_id == client_id) seq = s.last_applied_sequence;
-    return seq;
-  }
-  std::size_t param_replies_unlocked() const { return param_replies_.size(); }
-  protocol::ParamReply first_param_reply() {
-    std::lock_guard lock(mutex_);
-    return param_replies_.at(0);
-  }
-  bool has_match_info() {
-    std::lock_guard lock(mutex_);
-    return !infos_.empty();
-  }
-
- private:
-  template <typename F>
-  void locked(F&& f) {
-    {
-      std::lock_guard lock(mutex_);
-      f();
-    }
-    cv_.notify_all();
-  }
-  std::mutex mutex_;
-  std::condition_variable cv_;
-  std::vector<protocol::MatchInfo> infos_;
-  std::vector<protocol::JoinReply> replies_;
-  std::vector<protocol::ParamReply> param_replies_;
-  std::deque<protocol::Snapshot> snapshots_;
-  protocol::ClientTransport transport_;
-};
-
-protocol::Command standing(const protocol::JoinReply& r, std::uint32_t seq) {
-  protocol::Command c;
-  c.client_id = r.client_id;
-  c.entity = r.entity;
-  c.sequence = seq;
-  c.camera_z = 10.0f;
-  return c;
+// A client with credentials: TestClient on a secure transport.
+std::unique_ptr<TestClient> secure_client(int domain, const std::string& identity, const fs::path& dir) {
+  return std::make_unique<TestClient>(secure(domain, identity, dir, identity), 20s);
 }
 
 TEST(SecureMatch, PlayersAreConfinedToTheirOwnClientAndPartitionAndOnlyOperatorsChangeParameters) {
@@ -159,18 +75,18 @@ TEST(SecureMatch, PlayersAreConfinedToTheirOwnClientAndPartitionAndOnlyOperators
   nlohmann::json summary;
   {
     ServerThread server(options);
-    SecureClient alice(156, "alice", p.dir);
-    SecureClient bob(156, "bob", p.dir);
-    const auto ra = alice.join(1);
-    const auto rb = bob.join(2);
+    const auto alice_client = secure_client(156, "alice", p.dir);
+    const auto bob_client = secure_client(156, "bob", p.dir);
+    TestClient& alice = *alice_client;
+    TestClient& bob = *bob_client;
+    const auto ra = alice.join(1, "secure");
+    const auto rb = bob.join(2, "secure");
     ASSERT_TRUE(ra && ra->result == protocol::JoinResult::accepted);
     ASSERT_TRUE(rb && rb->result == protocol::JoinResult::accepted);
     // The partition follows from the authenticated certificate's name.
     EXPECT_EQ(ra->snapshot_partition, "throng_p_player-alice_" + std::to_string(ra->client_id));
     EXPECT_EQ(rb->snapshot_partition, "throng_p_player-bob_" + std::to_string(rb->client_id));
-    alice.subscribe(ra->client_id, ra->snapshot_partition);
-    bob.subscribe(rb->client_id, rb->snapshot_partition);
-    EXPECT_TRUE(alice.wait_until([&] { return alice.snapshots_of_unlocked(ra->client_id) > 0; }))
+    EXPECT_TRUE(alice.wait_until([&] { return snapshots_of(alice.snapshots(), ra->client_id) > 0; }))
         << "alice gets her own snapshots";
 
     // Wallhack: a reader in bob's partition cannot even be created with alice's permissions ...
@@ -182,25 +98,14 @@ TEST(SecureMatch, PlayersAreConfinedToTheirOwnClientAndPartitionAndOnlyOperators
     // delivers nothing of bob's.
     alice.subscribe(ra->client_id, rb->snapshot_partition);
     std::this_thread::sleep_for(1500ms);
-    EXPECT_EQ(alice.snapshots_of(rb->client_id), 0u) << "alice read bob's snapshots";
+    EXPECT_EQ(alice.with_lock([&] { return snapshots_of(alice.snapshots(), rb->client_id); }), 0u) << "alice read bob's snapshots";
 
     // Hijack and kick: alice writes commands and a leave for bob's client.
-    bob.transport().send_command(standing(*rb, 1));
-    ASSERT_TRUE(bob.wait_until([&] { return bob.last_applied_unlocked(rb->client_id) == 1; }));
-    for (std::uint32_t k = 0; k < 10; ++k) {
-      protocol::Command c = standing(*rb, 500 + k);
-      c.move_x = 1.0f;
-      alice.transport().send_command(c);
-      std::this_thread::sleep_for(5ms);
-    }
-    protocol::JoinRequest kick;
-    kick.client_nonce = 2;
-    kick.leave = true;
-    kick.client_id = rb->client_id;
-    alice.transport().send_join(kick);
-    std::this_thread::sleep_for(300ms);
-    bob.transport().send_command(standing(*rb, 2));
-    EXPECT_TRUE(bob.wait_until([&] { return bob.last_applied_unlocked(rb->client_id) == 2; })) << "bob lost control";
+    bob.transport().send_command(standing_command(*rb, 1));
+    ASSERT_TRUE(bob.wait_until([&] { return last_applied(bob.snapshots(), rb->client_id) == 1; }));
+    hijack_and_kick(alice.transport(), *rb, 10, 500);
+    bob.transport().send_command(standing_command(*rb, 2));
+    EXPECT_TRUE(bob.wait_until([&] { return last_applied(bob.snapshots(), rb->client_id) == 2; })) << "bob lost control";
 
     // Parameters: a player cannot even create the writer; the operator's change applies.
     protocol::ParamUpdate u;
@@ -209,11 +114,12 @@ TEST(SecureMatch, PlayersAreConfinedToTheirOwnClientAndPartitionAndOnlyOperators
     u.param = "weight";
     u.value = 300.0;
     EXPECT_THROW(alice.transport().send_param_update(u), protocol::TransportError);
-    SecureClient op(156, protocol::kOperatorIdentity, p.dir);
+    const auto op_client = secure_client(156, protocol::kOperatorIdentity, p.dir);
+    TestClient& op = *op_client;
     ASSERT_TRUE(op.transport().wait_for_server(20s));
     op.transport().send_param_update(u);
-    ASSERT_TRUE(op.wait_until([&] { return op.param_replies_unlocked() > 0; }));
-    const protocol::ParamReply reply = op.first_param_reply();
+    ASSERT_TRUE(op.wait_until([&] { return !op.param_replies().empty(); }));
+    const protocol::ParamReply reply = op.with_lock([&] { return op.param_replies().at(0); });
     EXPECT_TRUE(reply.ok) << reply.error;
 
     // No credentials: nothing of the match is visible.
@@ -264,9 +170,9 @@ TEST(SecureMatch, ExpiredCertificatesTamperedPermissionsAndForeignCasAreRefused)
   {
     ServerThread server(options);
     {
-      SecureClient eve(157, "eve", p.foreign);
-      EXPECT_FALSE(eve.transport().wait_for_server(5s));
-      EXPECT_FALSE(eve.has_match_info());
+      const auto eve = secure_client(157, "eve", p.foreign);
+      EXPECT_FALSE(eve->transport().wait_for_server(5s));
+      EXPECT_TRUE(eve->with_lock([&] { return eve->match_infos().empty(); }));
     }
     // Counted once eve is gone without ever having authenticated.
     const auto deadline = std::chrono::steady_clock::now() + 10s;

@@ -56,7 +56,10 @@ class ServerThread {
 // One client on its own participant; records everything it receives.
 class TestClient {
  public:
-  explicit TestClient(int domain) : transport_(protocol::TransportOptions{domain, true, "throng-test-client", std::nullopt}) {
+  explicit TestClient(int domain) : TestClient(protocol::TransportOptions{domain, true, "throng-test-client", std::nullopt}) {}
+  // Any transport options (DDS Security: discovery and the handshakes take longer, so patience).
+  explicit TestClient(const protocol::TransportOptions& options, std::chrono::milliseconds patience = 10s)
+      : patience_(patience), transport_(options) {
     transport_.start(protocol::ClientTransport::Handlers{
         [this](protocol::MatchInfo&& m) { locked([&] { match_infos_.push_back(std::move(m)); }); },
         [this](protocol::JoinReply&& r) { locked([&] { replies_.push_back(std::move(r)); }); },
@@ -70,23 +73,28 @@ class TestClient {
   // Joins and subscribes to the snapshot partition; returns the reply (nullopt on timeout).
   std::optional<protocol::JoinReply> join(std::uint64_t nonce, const std::string& name = "test",
                                           std::uint32_t version = protocol::kProtocolVersion) {
-    if (!transport_.wait_for_server(10s)) return std::nullopt;
+    if (!transport_.wait_for_server(patience_)) return std::nullopt;
     protocol::JoinRequest r;
     r.client_nonce = nonce;
     r.name = name;
     r.protocol_version = version;
     transport_.send_join(r);
     std::optional<protocol::JoinReply> reply;
-    wait_until([&] {
-      for (const auto& x : replies_)
-        if (x.client_nonce == nonce) reply = x;
-      return reply.has_value();
-    });
-    if (reply && reply->result == protocol::JoinResult::accepted) {
-      transport_.subscribe_snapshots(reply->client_id, reply->snapshot_partition,
-                                     [this](protocol::Snapshot&& s, std::size_t) { locked([&] { snapshots_.push_back(std::move(s)); }); });
-    }
+    wait_until(
+        [&] {
+          for (const auto& x : replies_)
+            if (x.client_nonce == nonce) reply = x;
+          return reply.has_value();
+        },
+        patience_);
+    if (reply && reply->result == protocol::JoinResult::accepted) subscribe(reply->client_id, reply->snapshot_partition);
     return reply;
+  }
+
+  // Records client_id's snapshots from `partition` (subscribing again re-points the reader).
+  void subscribe(std::uint32_t client_id, const std::string& partition) {
+    transport_.subscribe_snapshots(client_id, partition,
+                                   [this](protocol::Snapshot&& s, std::size_t) { locked([&] { snapshots_.push_back(std::move(s)); }); });
   }
 
   // Waits (bounded) until pred() holds; pred runs under the lock.
@@ -117,6 +125,7 @@ class TestClient {
     cv_.notify_all();
   }
 
+  std::chrono::milliseconds patience_;
   std::mutex mutex_;
   std::condition_variable cv_;
   std::vector<protocol::MatchInfo> match_infos_;
@@ -126,6 +135,48 @@ class TestClient {
   std::deque<protocol::Snapshot> snapshots_;
   protocol::ClientTransport transport_;  // last: destroyed first, so no callback outlives the rest
 };
+
+// A command that stands still and keeps the camera fixed: applying it changes nothing in the world.
+inline protocol::Command standing_command(const protocol::JoinReply& r, std::uint32_t seq) {
+  protocol::Command c;
+  c.client_id = r.client_id;
+  c.entity = r.entity;
+  c.sequence = seq;
+  c.camera_z = 10.0f;
+  return c;
+}
+
+// Snapshots of one client in a recorded list, and the newest command sequence they say was applied.
+inline std::size_t snapshots_of(const std::deque<protocol::Snapshot>& snapshots, std::uint32_t client_id) {
+  std::size_t n = 0;
+  for (const auto& s : snapshots) n += s.client_id == client_id;
+  return n;
+}
+inline std::uint32_t last_applied(const std::deque<protocol::Snapshot>& snapshots, std::uint32_t client_id) {
+  std::uint32_t seq = 0;
+  for (const auto& s : snapshots)
+    if (s.client_id == client_id) seq = s.last_applied_sequence;
+  return seq;
+}
+
+// What a hijacker does from its own participant with what every join reply tells: `commands`
+// full-speed commands for the victim's client and entity with sequences from first_sequence on
+// (far ahead of the victim's), then a leave naming the victim's client and nonce.
+inline void hijack_and_kick(protocol::ClientTransport& attacker, const protocol::JoinReply& victim, std::uint32_t commands,
+                            std::uint32_t first_sequence) {
+  for (std::uint32_t k = 0; k < commands; ++k) {
+    protocol::Command c = standing_command(victim, first_sequence + k);
+    c.move_x = 1.0f;
+    attacker.send_command(c);
+    std::this_thread::sleep_for(5ms);
+  }
+  protocol::JoinRequest kick;
+  kick.client_nonce = victim.client_nonce;
+  kick.leave = true;
+  kick.client_id = victim.client_id;
+  attacker.send_join(kick);
+  std::this_thread::sleep_for(300ms);
+}
 
 // Own pose as the snapshots report it.
 struct OwnPose {
