@@ -1,5 +1,6 @@
 #include "throng/server/match_server.h"
 
+#include <bit>
 #include <chrono>
 #include <csignal>
 #include <fstream>
@@ -293,10 +294,14 @@ void MatchServer::Impl::run_tick(Clock::time_point woke) {
   metrics.joins_accepted.inc(report.joins_accepted);
   metrics.joins_refused.inc(report.joins_refused);
   metrics.joins_foreign.inc(report.joins_foreign);
-  joins_foreign_total += report.joins_foreign;
-  if (report.joins_foreign > 0)
-    spdlog::warn("{} join/leave request(s) for clients another participant owns ignored (foreign_participant)",
-                 report.joins_foreign);
+  if (report.joins_foreign > 0) {
+    const std::uint64_t before = joins_foreign_total;
+    joins_foreign_total += report.joins_foreign;
+    // Logged when the total reaches 1, 2, 4, 8 ...: a flood must not flood the log.
+    if (std::bit_width(before) != std::bit_width(joins_foreign_total))
+      spdlog::warn("join/leave requests for clients another participant owns ignored (foreign_participant): {} so far",
+                   joins_foreign_total);
+  }
   raise_to(metrics.param_not_operator, param_not_operator_total.load());
   metrics.leaves.inc(report.leaves);
   metrics.timeouts.inc(report.timeouts);
