@@ -57,6 +57,7 @@ TEST(ServerBadCommands, EveryBadCommandIsRejectedByReasonAndChangesNothing) {
     // foreign_participant: mallory's own id, entity and a fresh sequence, from another participant.
     TestClient stranger(145);
     ASSERT_TRUE(stranger.transport().wait_for_server(10s));
+    ASSERT_TRUE(wait_for_command_writers(server, 2));
     c = standing_command(reply, 108); c.move_x = 1.0f;
     stranger.transport().send_command(c);
     ++sent;

@@ -23,6 +23,7 @@ TEST(ServerBinding, AnotherParticipantCannotCommandOrKickAClient) {
     // The attacker learns everything from the public join reply: id, entity, nonce.
     TestClient attacker(158);
     ASSERT_TRUE(attacker.transport().wait_for_server(10s));
+    ASSERT_TRUE(wait_for_command_writers(server, 2));
     ASSERT_TRUE(attacker.wait_until([&] {
       for (const auto& x : attacker.replies())
         if (x.client_nonce == 9001) return true;

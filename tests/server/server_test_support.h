@@ -53,6 +53,18 @@ class ServerThread {
   std::thread thread_;
 };
 
+// Commands are best-effort: one written before the server's command reader matched its writer is
+// lost. A participant that has not had a command applied yet waits here until the server's reader
+// counts `writers` command writers before its commands are counted on.
+inline bool wait_for_command_writers(ServerThread& server, std::uint64_t writers, std::chrono::milliseconds timeout = 10s) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (server.server().transport_counters().command_writers < writers) {
+    if (std::chrono::steady_clock::now() > deadline) return false;
+    std::this_thread::sleep_for(10ms);
+  }
+  return true;
+}
+
 // One client on its own participant; records everything it receives.
 class TestClient {
  public:

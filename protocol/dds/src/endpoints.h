@@ -1,12 +1,14 @@
 #pragma once
 // Small pieces shared by both transports: a reader listener that takes every sample and hands it
 // on, a writer listener that counts matched readers, and a checked write.
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstddef>
 #include <cstdio>
 #include <exception>
 #include <fastdds/dds/core/status/PublicationMatchedStatus.hpp>
+#include <fastdds/dds/core/status/SubscriptionMatchedStatus.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/DataWriterListener.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
@@ -47,6 +49,14 @@ class TakeAllListener final : public eprosima::fastdds::dds::DataReaderListener 
   using Sink = std::function<void(Idl&&, const SampleMeta&)>;
   explicit TakeAllListener(Sink sink) : sink_(std::move(sink)) {}
 
+  // Remote writers this reader is matched with. A best-effort sample written before the reader
+  // matched its writer is gone, so tests (and /metrics) need the reader's side of discovery.
+  void on_subscription_matched(eprosima::fastdds::dds::DataReader*,
+                               const eprosima::fastdds::dds::SubscriptionMatchedStatus& status) override {
+    matched_writers_.store(status.current_count);
+  }
+  int matched_writers() const { return matched_writers_.load(); }
+
   void on_data_available(eprosima::fastdds::dds::DataReader* reader) override {
     Idl sample;
     eprosima::fastdds::dds::SampleInfo info;
@@ -63,6 +73,7 @@ class TakeAllListener final : public eprosima::fastdds::dds::DataReaderListener 
 
  private:
   Sink sink_;
+  std::atomic<int> matched_writers_{0};
 };
 
 // Counts the readers a writer is matched with; wait_matched blocks on a condition variable.

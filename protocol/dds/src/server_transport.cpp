@@ -192,6 +192,7 @@ TransportCounters ServerTransport::counters() const {
   c.contacts_samples = impl_->contacts_samples.load();
   c.contacts_bytes = impl_->contacts_bytes.load();
   c.participants_refused = impl_->participant.participants_refused();
+  if (impl_->command_listener) c.command_writers = static_cast<std::uint64_t>(impl_->command_listener->matched_writers());
   return c;
 }
 

@@ -50,6 +50,9 @@ struct TransportCounters {
   // DDS Security: remote participants whose authentication failed (Fast DDS retries a refused
   // participant's handshake, so one stranger counts about once a second while it keeps trying).
   std::uint64_t participants_refused = 0;
+  // Client command writers the server's command reader is matched with now (one per client
+  // participant). Commands are best-effort: one written before its writer counted here is lost.
+  std::uint64_t command_writers = 0;
 };
 
 class TransportError : public std::runtime_error {
