@@ -93,8 +93,9 @@ RunResult run_scene(const scene::SceneDef& def, const RunOptions& options) {
       over.worst_p99_pen_over_radius = std::max(over.worst_p99_pen_over_radius, now.p99_pen_over_radius);
       if (now.max_pen_over_radius > 0.5) ++over.ticks_over_0_5_r;
       if (trace.is_open())
-        trace << fmt::format("{},{:.1f},{:.6g},{:.6g},{},{:.6g}\n", tick, s.total_us, now.max_pen_over_radius,
-                             now.p99_pen_over_radius, now.pairs_over_1pct, s.max_pen_over_radius);
+        trace << fmt::format("{},{:.1f},{:.6g},{:.6g},{},{:.6g},{},{}\n", tick, s.total_us, now.max_pen_over_radius,
+                             now.p99_pen_over_radius, now.pairs_over_1pct, s.max_pen_over_radius, s.iterations_used,
+                             s.tunnel_clamps);
     }
     if (t < options.warmup) continue;
     total.push_back(s.total_us);

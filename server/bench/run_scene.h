@@ -36,7 +36,8 @@ struct ResidualOverTime {
 
 // The CSV columns --trace writes.
 inline constexpr const char* kTraceHeader =
-    "tick,tick_us,max_pen_over_radius,p99_pen_over_radius,pairs_over_1pct,solver_max_pen_over_radius";
+    "tick,tick_us,max_pen_over_radius,p99_pen_over_radius,pairs_over_1pct,solver_max_pen_over_radius,iterations_used,"
+    "tunnel_clamps";
 
 struct Percentiles {
   double median = 0.0;

@@ -69,7 +69,7 @@ Crowd packed_crowd(std::size_t n, double offset, std::uint64_t seed, double warm
 
 // The fast pairs' method written out in double precision and the pairs' own order: each pair's
 // normal and penetration taken once from the start positions, the warm start (cut to the fast
-// cap) along the normals, then sweeps alternating in direction, each projection moving the two
+// cap) along the normals and each body's net move cut, then sweeps alternating in direction, each projection moving the two
 // bodies along the normal by the change of the pair's clamped push. Returns the largest
 // penetration over the smaller radius seen before a projection in the last sweep.
 double fixed_normal_reference_solve(Crowd& c, int sweeps) {
@@ -97,6 +97,15 @@ double fixed_normal_reference_solve(Crowd& c, int sweeps) {
     ux[p.b] += nx[k] * move_b; uy[p.b] += ny[k] * move_b;
   };
   for (std::size_t k = 0; k < np; ++k) move(k, c.pairs[k].lambda);
+  // Each body's net warm-start move is cut to kWarmStartMoveCapOverRadius of its radius.
+  for (std::size_t i = 0; i < c.bodies.size(); ++i) {
+    const double cap = kWarmStartMoveCapOverRadius * c.bodies.r[i];
+    const double len = std::sqrt(ux[i] * ux[i] + uy[i] * uy[i]);
+    if (len > cap) {
+      ux[i] *= cap / len;
+      uy[i] *= cap / len;
+    }
+  }
   double worst = 0.0;
   for (int it = 0; it < sweeps; ++it) {
     worst = 0.0;

@@ -49,10 +49,29 @@ inline void warm_start_pair(SolverBodies& b, SolverPair& p, const std::vector<So
   b.shift(p.b, nx * move_b, ny * move_b);
 }
 
+// Cuts a body's move (dx, dy) to kWarmStartMoveCapOverRadius of its radius; returns the factor.
+inline double move_cut(double dx, double dy, double r) {
+  const double cap = kWarmStartMoveCapOverRadius * r;
+  const double len2 = dx * dx + dy * dy;
+  return len2 > cap * cap ? cap / std::sqrt(len2) : 1.0;
+}
+
 }  // namespace
 
 void apply_warm_start(SolverBodies& b, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes) {
+  // Positions move directly here (no displacement array): keep where the bodies started.
+  const std::size_t n = b.size();
+  std::copy(b.x.begin(), b.x.end(), b.warm_x0.begin());
+  std::copy(b.y.begin(), b.y.end(), b.warm_y0.begin());
   for (SolverPair& p : pairs) warm_start_pair(b, p, planes);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double dx = b.x[i] - b.warm_x0[i], dy = b.y[i] - b.warm_y0[i];
+    const double f = move_cut(dx, dy, b.r[i]);
+    if (f < 1.0) {
+      b.x[i] = b.warm_x0[i] + dx * f;
+      b.y[i] = b.warm_y0[i] + dy * f;
+    }
+  }
 }
 
 void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
@@ -61,6 +80,16 @@ void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, cons
   for (const PairSchedule::Level& lv : schedule.levels) {
     warm_start_fast_range(b, schedule, lv.fast_begin, lv.fast_end);
     for (std::uint32_t k = lv.slow_begin; k < lv.slow_end; ++k) warm_start_pair(bodies, pairs[schedule.slow[k]], planes);
+  }
+  // The displacements start at zero, so u is the warm start's move.
+  float* u = bodies.u.data();
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const double dx = u[2 * i], dy = u[2 * i + 1];
+    const double f = move_cut(dx, dy, bodies.r[i]);
+    if (f < 1.0) {
+      u[2 * i] = static_cast<float>(dx * f);
+      u[2 * i + 1] = static_cast<float>(dy * f);
+    }
   }
 }
 
@@ -144,8 +173,12 @@ SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs,
   const float calm = schedule.calm_push_over_radius;
   const bool skip_calm = scheduled && !any_planes && calm > 0.0f;
   if (scheduled) {
-    schedule.band_activity.assign(nb, std::numeric_limits<float>::infinity());
-    schedule.band_swept.assign(nb, 1);
+    // resize + fill: assign past the capacity would reallocate to the exact size (see
+    // pair_schedule_build.h).
+    schedule.band_activity.resize(nb);
+    std::fill(schedule.band_activity.begin(), schedule.band_activity.end(), std::numeric_limits<float>::infinity());
+    schedule.band_swept.resize(nb);
+    std::fill(schedule.band_swept.begin(), schedule.band_swept.end(), std::uint8_t{1});
   }
   for (std::uint32_t it = 0; it < iterations; ++it) {
     worst = 0.0;

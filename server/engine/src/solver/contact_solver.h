@@ -20,7 +20,9 @@ struct SolveResult {
   std::uint32_t band_sweeps_skipped = 0;
 };
 
-// Applies each pair's warm-start push (pair.lambda from the previous tick) along the current normal.
+// Applies each pair's warm-start push (pair.lambda from the previous tick) along the current normal,
+// then cuts every body's net warm-start move to kWarmStartMoveCapOverRadius of its radius (see
+// there).
 void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes);
 // The same for a scheduled solve, in the schedule's level order (each body's pairs in their
 // relative order, without each pair waiting on the previous one), on the float displacements; the

@@ -62,6 +62,19 @@ inline constexpr double kFastWarmStartCapOverRadius = 8.0;
 // unaffected.
 inline constexpr double kCarriedShareMin = 0.25;
 
+// The warm start is a guess: last tick's pushes along this tick's normals. Where the pushes on a
+// body balance (a packed crowd's pressure) they move it little, however large each is; where
+// they do not (a pair capped lower than its neighbours, bodies sliding round a small fixed body
+// so that the normals turn, a pair that ended) the guess alone can carry a body a metre, past
+// bodies the pair search saw apart and the solve therefore does not have: the deepest overlaps of
+// a tick were such unseen pairs, made in that tick (traced on crush with a post at its goal). So
+// a body's net warm-start move is cut to this fraction of its radius, comparable with the search's
+// contact margin; the pairs keep their pushes (lambda), so the sweeps can still give them back.
+// Measured on the crush family (worst tick after tick 60, max penetration over r, see
+// docs/benchmarks.md): at 0.05 a jam that steps its full speed rebuilds its pressure too slowly
+// (0.6); at 0.2 and 1.0 unseen pairs get through (0.3 and 0.5); 0.1 holds the family near 0.25.
+inline constexpr double kWarmStartMoveCapOverRadius = 0.1;
+
 // A fast pair's warm-start cap in metres, from its own share (double, as SolverPair::share_a) and
 // its smaller radius. Both schedule sources (pair_schedule_build.h, the kept list's records in
 // world_pair_list.cpp) call this, so a pair gets the same cap bits either way (tested).

@@ -54,7 +54,10 @@ struct SolverPairSource {
 template <class Source>
 void build_pair_schedule_from(const SolverBodies& bodies, const Source& pairs, double conflict_limit, PairSchedule& s) {
   const std::size_t np = pairs.size();
-  s.next_level.assign(bodies.size(), 0);
+  // resize + fill, not assign: assign beyond the capacity reallocates to the exact size, so a list
+  // that keeps growing by a few entries would allocate in every tick that sets a new high.
+  s.next_level.resize(bodies.size());
+  std::fill(s.next_level.begin(), s.next_level.end(), 0u);
   s.pair_level.resize(np);
   s.fast_count.clear();
   s.slow_count.clear();
@@ -137,7 +140,8 @@ void build_pair_schedule_from(const SolverBodies& bodies, const Source& pairs, d
   // Scatter only the pair index, then fill the fast arrays front to back: one random write per
   // pair instead of one into each of nine arrays. Padding slots keep kNoPair.
   const std::uint32_t slots = fast_at;
-  s.src.assign(slots, PairSchedule::kNoPair);
+  s.src.resize(slots);
+  std::fill(s.src.begin(), s.src.end(), PairSchedule::kNoPair);
   s.slow.resize(np - fast_total);
   for (std::size_t k = 0; k < np; ++k) {
     const std::uint32_t lv = s.pair_level[k];

@@ -40,10 +40,13 @@ struct SolverBodies {
   // unscheduled solve (small or calm scenes) moves x and y themselves, exactly as before.
   std::vector<float> u;
   bool displaced = false;  // true: positions are x + u, y + u (see above)
+  // Scratch of an unscheduled warm start: the positions before it (its move is cut per body).
+  std::vector<double> warm_x0, warm_y0;
 
   void resize(std::size_t n) {
     x.resize(n); y.resize(n); z.resize(n); r.resize(n); hh.resize(n);
     grounded.resize(n); plane_begin.resize(n); plane_count.resize(n); id.resize(n);
+    warm_x0.resize(n); warm_y0.resize(n);  // sized with the bodies: a solve never allocates them
     // One spare slot (body n) for the pair schedule's padding pairs, which move it by zero.
     u.resize(2 * n + 2);
   }
