@@ -1,5 +1,6 @@
 // throng-server as a process: graceful shutdown on SIGTERM (exit 0, summary written, clients told
 // the match ended), the admin endpoint serving throng_ metrics, and bad command lines rejected.
+#include <cstdlib>
 #include <csignal>
 
 #include <arpa/inet.h>
@@ -106,6 +107,8 @@ TEST(ServerProcess, BadCommandLinesAreRejectedWithAClearMessage) {
       {{"--domain", "400"}, "--domain"},
       {{"--duration", "nan"}, "--duration"},
       {{"--client-timeout", "inf"}, "--client-timeout"},
+      {{"--end-when-empty", "nan"}, "--end-when-empty"},
+      {{"--end-when-empty", "-1"}, "--end-when-empty"},
       {{"--scene", "/no/such/scene.json"}, "neither a built-in scene"},
       {{"--bogus"}, "bogus"},
       {{"--security", "/no/such/pki"}, "--security"},
@@ -122,6 +125,15 @@ TEST(ServerProcess, BadCommandLinesAreRejectedWithAClearMessage) {
     const auto err = read_file(dir / "err.txt");
     EXPECT_NE(err.find(c.expect), std::string::npos) << "for " << c.args[0] << " got: " << err;
   }
+  // Under Agones the sidecar port comes from the environment: a bad one is an error, not a guess.
+  ::setenv("AGONES_SDK_HTTP_PORT", "70000", 1);
+  ChildProcess agones(kServer, {"--no-log", "--admin-port", "-1", "--domain", "153"}, dir / "out.txt", dir / "err.txt");
+  const auto agones_code = agones.wait(20s);
+  ::unsetenv("AGONES_SDK_HTTP_PORT");
+  ASSERT_TRUE(agones_code.has_value());
+  EXPECT_NE(*agones_code, 0);
+  EXPECT_NE(read_file(dir / "err.txt").find("AGONES_SDK_HTTP_PORT must be a port number"), std::string::npos)
+      << read_file(dir / "err.txt");
   ChildProcess help(kServer, {"--help"}, dir / "help.txt", dir / "help.err");
   EXPECT_EQ(help.wait(10s), 0);
   EXPECT_NE(read_file(dir / "help.txt").find("--interest-radius"), std::string::npos);

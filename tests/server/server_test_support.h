@@ -1,6 +1,7 @@
 #pragma once
 // In-process server + DDS test client for the integration tests. Everything waits on condition
 // variables with a deadline, so a broken server fails a test in seconds instead of hanging ctest.
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <deque>
@@ -36,7 +37,11 @@ inline server::ServerOptions small_server_options(int domain) {
 // A MatchServer running on its own thread until stop().
 class ServerThread {
  public:
-  explicit ServerThread(const server::ServerOptions& o) : server_(o), thread_([this] { exit_code_ = server_.run(false); }) {}
+  explicit ServerThread(const server::ServerOptions& o)
+      : server_(o), thread_([this] {
+          exit_code_ = server_.run(false);
+          done_.store(true);
+        }) {}
   ~ServerThread() { stop(); }
   void stop() {
     if (thread_.joinable()) {
@@ -46,10 +51,13 @@ class ServerThread {
   }
   server::MatchServer& server() { return server_; }
   int exit_code() const { return exit_code_; }
+  // The match ended by itself (run() returned) without stop().
+  bool done() const { return done_.load(); }
 
  private:
   server::MatchServer server_;
   int exit_code_ = -1;
+  std::atomic<bool> done_{false};
   std::thread thread_;
 };
 

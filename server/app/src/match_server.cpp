@@ -4,6 +4,8 @@
 #include <chrono>
 #include <csignal>
 #include <fstream>
+#include <mutex>
+#include <optional>
 #include <unistd.h>
 
 #include <boost/asio/io_context.hpp>
@@ -19,6 +21,7 @@
 #include "throng/protocol/security.h"
 #include "throng/scene/builtin_scenes.h"
 #include "throng/scene/scale.h"
+#include "throng/server/agones_sdk.h"
 #include "throng/server/client_ledger.h"
 #include "throng/server/duration_stats.h"
 #include "throng/server/keyframe_saver.h"
@@ -98,6 +101,23 @@ struct MatchServer::Impl {
   double view_error_max_m = 0.0;
   bool finished = false;
   std::unique_ptr<TickSchedule> schedule;
+  // Why the match ended (summary): duration, signal, empty, stopped. Set by whoever asks first.
+  std::mutex end_mutex;
+  std::string end_reason;
+  // --end-when-empty: a first player joined; since when nobody is connected.
+  bool ever_joined = false;
+  std::optional<Clock::time_point> empty_since;
+  AgonesProbe agones_probe;
+  std::unique_ptr<AgonesSdk> agones;
+
+  void request_end(const char* reason) {
+    {
+      std::lock_guard<std::mutex> lock(end_mutex);
+      if (end_reason.empty()) end_reason = reason;
+    }
+    stop_requested.store(true);
+  }
+  void check_empty(Clock::time_point now);
 
   explicit Impl(const ServerOptions& o)
       : options(o),
@@ -192,7 +212,28 @@ void MatchServer::Impl::check_log() {
 MatchServer::MatchServer(const ServerOptions& options) : impl_(std::make_unique<Impl>(options)) {}
 MatchServer::~MatchServer() = default;
 
-void MatchServer::request_stop() { impl_->stop_requested.store(true); }
+void MatchServer::request_stop() { impl_->request_end("stopped"); }
+
+// --end-when-empty: once a first player joined, the match ends when nobody has been connected for
+// the configured time (a fleet's server must not idle forever after its players left).
+void MatchServer::Impl::check_empty(Clock::time_point now) {
+  if (options.end_when_empty_s <= 0.0 || finished) return;
+  if (match.client_count() > 0) {
+    ever_joined = true;
+    empty_since.reset();
+    return;
+  }
+  if (!ever_joined) return;
+  if (!empty_since) {
+    empty_since = now;
+    spdlog::info("every player has left: the match ends in {} s unless one joins", options.end_when_empty_s);
+    return;
+  }
+  if (seconds_between(*empty_since, now) >= options.end_when_empty_s) {
+    spdlog::info("nobody connected for {} s: ending the match", options.end_when_empty_s);
+    request_end("empty");
+  }
+}
 
 protocol::TransportCounters MatchServer::transport_counters() const { return impl_->transport.counters(); }
 
@@ -340,6 +381,10 @@ void MatchServer::Impl::run_tick(Clock::time_point woke) {
     if (log) check_log();
   }
   if (done - last_progress >= std::chrono::seconds(10)) log_progress(done);
+  check_empty(done);
+  agones_probe.players.store(match.client_count());
+  agones_probe.ticks.store(report.tick);
+  if (options.tick_hook_for_tests) options.tick_hook_for_tests(report.tick);
   ready.store(!finished);
 }
 
@@ -365,7 +410,7 @@ int MatchServer::run(bool handle_signals) {
     signals.async_wait([&](const boost::system::error_code& ec, int signo) {
       if (ec) return;
       spdlog::info("{} received: finishing the current tick and ending the match", signo == SIGINT ? "SIGINT" : "SIGTERM");
-      m.stop_requested.store(true);
+      m.request_end("signal");
     });
   }
 
@@ -400,13 +445,22 @@ int MatchServer::run(bool handle_signals) {
                m.match.world().pos_x().size(), m.options.match.tick_hz, m.options.match.max_clients,
                m.options.duration_s > 0 ? fmt::format(", for {} s", m.options.duration_s) : std::string(", until SIGINT/SIGTERM"));
   if (m.admin) spdlog::info("admin listening on {}:{} (/healthz /readyz /metrics)", m.options.admin_bind, m.admin->port());
+  if (m.options.agones_port != 0) {
+    AgonesOptions ao;
+    ao.port = m.options.agones_port;
+    ao.health_interval = std::chrono::milliseconds(m.options.agones_health_interval_ms);
+    ao.retry_interval = std::min(ao.retry_interval, ao.health_interval);
+    spdlog::info("Agones SDK on 127.0.0.1:{}: ready after the first tick, health every {} ms while ticks run, shutdown "
+                 "at the end", ao.port, ao.health_interval.count());
+    m.agones = std::make_unique<AgonesSdk>(ao, m.agones_probe);
+  }
 
   std::function<void()> arm = [&] {
     timer.expires_at(m.schedule->next_deadline());
     timer.async_wait([&](const boost::system::error_code& ec) {
       if (ec) return;
       const auto woke = Clock::now();
-      if (woke >= end_at) m.stop_requested.store(true);
+      if (woke >= end_at) m.request_end("duration");
       m.run_tick(woke);
       if (m.finished) {
         signals.cancel();
@@ -438,6 +492,13 @@ int MatchServer::run(bool handle_signals) {
       spdlog::error("match log: {}", e.what());
     }
   }
+  if (m.agones) {
+    // After the log is closed and "ended" went out: Agones may now tear the pod down.
+    m.agones_probe.ended.store(true);
+    if (!m.agones->wait_shutdown_sent(std::chrono::seconds(10)))
+      spdlog::error("Agones: /shutdown not acknowledged within 10 s; exiting anyway");
+    m.agones.reset();
+  }
   m.wall_seconds = seconds_between(m.started, Clock::now());
   m.ledger.update_commands(m.match);
   m.ready.store(false);
@@ -463,6 +524,7 @@ nlohmann::json MatchServer::summary() const {
   in.joins_foreign = m.joins_foreign_total;
   in.param_not_operator = m.param_not_operator_total.load();
   in.scene_name = m.scene.name;
+  in.end_reason = m.end_reason;
   return make_summary(in);
 }
 

@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "throng/server/agones_sdk.h"
 #include "throng/server/server_options.h"
 
 namespace throng::server {
@@ -24,7 +25,8 @@ ParseResult parse_server_options(const std::vector<std::string>& args) {
   CLI::App app{
       "throng-server: hosts one authoritative crowd-battle match over DDS.\n"
       "Clients join, send commands and receive snapshots of the objects near their camera; NPCs\n"
-      "are driven by the battle AI. Stops after --duration or on SIGINT/SIGTERM (graceful).",
+      "are driven by the battle AI. Stops after --duration, --end-when-empty or on SIGINT/SIGTERM (graceful).\n"
+      "Under Agones (AGONES_SDK_HTTP_PORT set) it reports ready, health and shutdown to the SDK sidecar.",
       "throng-server"};
   app.option_defaults()->always_capture_default();
   app.add_option("--scene", o.scene, "built-in scene (battle, crush, street, obstacles, mixed, one_cell) or scene JSON file");
@@ -64,6 +66,10 @@ ParseResult parse_server_options(const std::vector<std::string>& args) {
                "accept parameter changes (ParamUpdate) from any participant: for development, tests and local tools "
                "only, never on a reachable network. Without it and without --security every change is refused "
                "(\"not an operator\")");
+  app.add_option("--end-when-empty", o.end_when_empty_s,
+                 "end the match once every player has left and nobody joined for this many seconds (counted after a "
+                 "first player joined; 0 = never). Under Agones the server then calls /shutdown")
+      ->check(CLI::Range(0.0, 1e7));
   app.add_option("--summary-json", o.summary_json, "write the end-of-match summary to this JSON file");
   app.add_option("--log-level", o.log_level, "trace, debug, info, warn or error")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
@@ -73,6 +79,13 @@ ParseResult parse_server_options(const std::vector<std::string>& args) {
     std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 parses a reversed vector
     app.parse(reversed);
     require_finite(o.duration_s, "--duration");
+    require_finite(o.end_when_empty_s, "--end-when-empty");
+    // Under Agones the sidecar's port comes from the environment, as in Agones's own SDKs.
+    try {
+      o.agones_port = agones_port_from_environment();
+    } catch (const std::invalid_argument& e) {
+      throw CLI::ValidationError("AGONES_SDK_HTTP_PORT", e.what());
+    }
     require_finite(m.client_timeout_s, "--client-timeout");
     require_finite(m.interest.radius_m, "--interest-radius");
     require_finite(client_kbps, "--client-kbps");

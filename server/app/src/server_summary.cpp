@@ -64,6 +64,7 @@ nlohmann::json make_summary(const SummaryInputs& in) {
   j["push_events"] = in.push_events;
   j["view_error_max_m"] = in.view_error_max_m;
   j["state_hash"] = fmt::format("{:016x}", m.state_hash());
+  j["end_reason"] = in.end_reason;
   return j;
 }
 
@@ -73,8 +74,9 @@ std::string format_summary(const nlohmann::json& s) {
   line("=== throng-server summary ===");
   line(fmt::format("match {}  scene {}  {} bodies  {} Hz", s["match_id"].get<std::string>(), s["scene"].get<std::string>(),
                    s["bodies"].get<std::uint64_t>(), s["tick_hz"].get<std::uint32_t>()));
-  line(fmt::format("ticks {} in {:.1f} s  overruns {}  skipped {}", s["ticks"].get<std::uint64_t>(),
-                   s["wall_seconds"].get<double>(), s["overruns"].get<std::uint64_t>(), s["skipped_ticks"].get<std::uint64_t>()));
+  line(fmt::format("ticks {} in {:.1f} s  overruns {}  skipped {}{}", s["ticks"].get<std::uint64_t>(),
+                   s["wall_seconds"].get<double>(), s["overruns"].get<std::uint64_t>(), s["skipped_ticks"].get<std::uint64_t>(),
+                   s.value("end_reason", std::string()).empty() ? "" : "  ended by " + s["end_reason"].get<std::string>()));
   const auto& t = s["tick_ms"];
   line(fmt::format("tick ms  p50 {:.2f}  p90 {:.2f}  p99 {:.2f}  max {:.2f}  (budget {:.2f})", t["p50"].get<double>(),
                    t["p90"].get<double>(), t["p99"].get<double>(), t["max"].get<double>(), s["tick_budget_ms"].get<double>()));

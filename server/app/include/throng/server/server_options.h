@@ -2,6 +2,7 @@
 // throng-server's configuration: every command-line option as a field with its default, and the
 // parser that turns argv into it with clear errors (tested in tests/server/server_cli_test.cpp).
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -26,6 +27,15 @@ struct ServerOptions {
   // control lets only identities with the operator permission write them; without it, nobody can
   // be told apart, so they are refused unless this is set (development, tests, local tools).
   bool allow_anonymous_operator = false;
+  // End of match besides --duration: every player has left and none came back for this many
+  // seconds (counted once a first player joined). 0 = off.
+  double end_when_empty_s = 0.0;
+  // Agones REST SDK sidecar port (agones_sdk.h): from AGONES_SDK_HTTP_PORT; 0 = not under Agones.
+  std::uint16_t agones_port = 0;
+  std::uint32_t agones_health_interval_ms = 2000;  // tests shorten it
+  // Tests only: called on the tick thread after each tick with its number (a test stalls the tick
+  // loop with it). Never set by the command line.
+  std::function<void(std::uint64_t)> tick_hook_for_tests;
   std::string security_dir;        // --security DIR: DDS Security with the server identity in DIR
   match::MatchConfig match;        // tick rate, clients, interest ... (match_config.h)
 };
