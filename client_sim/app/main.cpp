@@ -62,6 +62,9 @@ int main(int argc, char** argv) {
                "one DDS participant per bot (default: all bots share one)");
   app.add_flag("--loopback,!--no-loopback", o.loopback,
                "DDS on 127.0.0.1 only (default) or Fast DDS's default transports and discovery");
+  app.add_option("--server", o.server,
+                 "tcp://HOST:PORT: reach a server started with --listen over TCP (no multicast, no UDP)")
+      ->check(protocol::check_tcp_endpoint);
   app.add_option("--security", o.security_dir,
                  "DDS Security: directory made by throng-pki; the bots authenticate as the bot fleet identity")
       ->check(CLI::ExistingDirectory);
@@ -99,6 +102,7 @@ int main(int argc, char** argv) {
   client_sim::FleetOptions fo;
   fo.domain_id = o.domain;
   fo.loopback_only = o.loopback;
+  if (!o.server.empty()) fo.server_tcp = protocol::parse_tcp_endpoint(o.server);
   fo.participant_per_client = o.participant_per_client;
   if (!o.security_dir.empty()) {
     try {

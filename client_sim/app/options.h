@@ -15,6 +15,7 @@ struct Options {
   std::string json_path;
   bool participant_per_client = false;
   bool loopback = true;
+  std::string server;                  // --server tcp://HOST:PORT (empty: discovery on the domain)
   std::string security_dir;            // --security DIR (empty: off)
   std::string identity = "bots";       // --identity: whose files in DIR the bots use
   bool ramp = false;

@@ -55,6 +55,7 @@ struct PlayOptions {
   std::uint64_t from = 1;       // first tick published (the player re-simulates up to from - 1 first)
   int domain = 0;               // DDS domain, like throng-server
   bool network = false;         // Fast DDS's default transports instead of 127.0.0.1 only
+  std::string listen;           // tcp://ADDR:PORT: DDS over TCP only, as throng-server --listen
   std::string security_dir;     // DDS Security with the server identity of this throng-pki directory
   bool loop = false;            // at the end, seek back to --from and play again (until a signal)
   bool strict = false;          // stop at the first tick whose hash differs from the log

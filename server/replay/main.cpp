@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "commands.h"
+#include "throng/protocol/dds_transport.h"
 
 int main(int argc, char** argv) {
   using namespace throng::replay;
@@ -96,6 +97,8 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   play_cmd->add_option("--domain", play.domain, "DDS domain id (like throng-server)")->check(CLI::Range(0, 232));
   play_cmd->add_flag("--network", play.network, "Fast DDS's default transports and discovery (default: 127.0.0.1 only)");
+  play_cmd->add_option("--listen", play.listen, "tcp://ADDR:PORT: DDS over TCP only (viewers and bots use --server)")
+      ->check(throng::protocol::check_tcp_endpoint);
   play_cmd->add_option("--security", play.security_dir,
                        "DDS Security: directory made by throng-pki; plays as the server identity (DIR/server)")
       ->check(CLI::ExistingDirectory);

@@ -97,6 +97,7 @@ int run_gateway(const ViewOptions& o, const std::atomic<bool>& stop) {
     protocol::TransportOptions t;
     t.domain_id = o.domain;
     t.loopback_only = o.loopback;
+    if (!o.server.empty()) t.tcp_server = protocol::parse_tcp_endpoint(o.server);
     t.participant_name = o.name;
     if (!o.security_dir.empty()) t.security = protocol::security_files(o.security_dir, o.identity);
     protocol::ClientTransport transport(t);

@@ -14,6 +14,7 @@ namespace throng::view {
 struct ViewOptions {
   int domain = 0;
   bool loopback = true;
+  std::string server;        // --server tcp://HOST:PORT (empty: discovery on the domain)
   std::string security_dir;  // --security DIR (empty: off)
   std::string identity;      // --identity NAME: the player (or operator) the viewer authenticates as
   std::string bind = "127.0.0.1";

@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "gateway_loop.h"
+#include "throng/protocol/dds_transport.h"
 #include "log_loop.h"
 #include "throng/view/log_control.h"
 
@@ -61,6 +62,8 @@ int main(int argc, char** argv) {
   auto* join_timeout = app.add_option("--join-timeout", o.join_timeout_s, "seconds to wait for the join reply")->check(CLI::PositiveNumber);
   app.add_flag("--loopback,!--no-loopback", o.loopback,
                "DDS on 127.0.0.1 only (default) or Fast DDS's default transports and discovery");
+  auto* server = app.add_option("--server", o.server, "tcp://HOST:PORT: reach a server started with --listen over TCP")
+                     ->check(throng::protocol::check_tcp_endpoint);
   auto* security = app.add_option("--security", o.security_dir,
                                   "DDS Security: directory made by throng-pki; needs --identity")
                       ->check(CLI::ExistingDirectory);
@@ -72,7 +75,7 @@ int main(int argc, char** argv) {
                  "serve the page from this folder instead of the copy built into the binary (for editing)")
       ->check(CLI::ExistingDirectory);
   app.add_flag("--quiet,-q", o.quiet, "no status line every 10 s");
-  for (auto* live_only : {domain, name, server_wait, join_timeout, security, identity}) log->excludes(live_only);
+  for (auto* live_only : {domain, name, server_wait, join_timeout, security, identity, server}) log->excludes(live_only);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

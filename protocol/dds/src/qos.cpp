@@ -2,6 +2,10 @@
 
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
+#include <fastdds/rtps/transport/TCPv4TransportDescriptor.h>
+#include <fastrtps/utils/IPLocator.h>
+#include <netdb.h>
+#include <arpa/inet.h>
 #include <filesystem>
 #include <mutex>
 
@@ -65,6 +69,55 @@ std::string security_refusal(const SecurityFiles& f) {
          "' says which";
 }
 
+// A name or dotted quad to a dotted IPv4 address (Fast DDS's locators take only the latter).
+std::string resolve_ipv4(const std::string& host, const std::string& where) {
+  in_addr a{};
+  if (::inet_pton(AF_INET, host.c_str(), &a) == 1) return host;
+  addrinfo hints{};
+  hints.ai_family = AF_INET;
+  addrinfo* found = nullptr;
+  if (::getaddrinfo(host.c_str(), nullptr, &hints, &found) != 0 || found == nullptr)
+    throw TransportError(where + "cannot resolve '" + host + "' to an IPv4 address");
+  char text[INET_ADDRSTRLEN] = {};
+  ::inet_ntop(AF_INET, &reinterpret_cast<sockaddr_in*>(found->ai_addr)->sin_addr, text, sizeof text);
+  ::freeaddrinfo(found);
+  return text;
+}
+
+// TCP only: the server listens on its port; a client connects to the server's as its one initial
+// peer. Discovery and data then share that connection: no multicast, no well-known UDP ports.
+void use_tcp(dds::DomainParticipantQos& qos, const TransportOptions& o, const std::string& where) {
+  using eprosima::fastdds::rtps::TCPv4TransportDescriptor;
+  using eprosima::fastrtps::rtps::IPLocator;
+  using eprosima::fastrtps::rtps::Locator_t;
+  auto tcp = std::make_shared<TCPv4TransportDescriptor>();
+  // Snapshots and commands are small and latency-bound: Nagle would hold them for an ACK.
+  tcp->enable_tcp_nodelay = true;
+  if (o.tcp_listen) {
+    tcp->add_listener_port(o.tcp_listen->port);
+    const std::string address = resolve_ipv4(o.tcp_listen->host, where);
+    // Fast DDS 2.9 matches two participants on one host only when their whitelists agree about
+    // loopback (fixed upstream after 2.9, PR 3733). Clients never whitelist, so a server bound to
+    // one address serves other hosts (and namespaces) through it; 0.0.0.0 serves this host too, at
+    // 127.0.0.1. A loopback-only listener could serve nobody and is refused.
+    if (address.rfind("127.", 0) == 0)
+      throw TransportError(where + "a TCP listener on " + address +
+                           " is not supported (Fast DDS 2.9 cannot match it); listen on 0.0.0.0 or an interface's "
+                           "address, or leave --listen out for a match on this host only (UDP on 127.0.0.1)");
+    if (address != "0.0.0.0") tcp->interfaceWhiteList.push_back(address);
+    if (!o.tcp_public_address.empty()) tcp->set_WAN_address(resolve_ipv4(o.tcp_public_address, where));
+  }
+  if (o.tcp_server) {
+    Locator_t peer;
+    peer.kind = LOCATOR_KIND_TCPv4;
+    IPLocator::setIPv4(peer, resolve_ipv4(o.tcp_server->host, where));
+    peer.port = o.tcp_server->port;
+    qos.wire_protocol().builtin.initialPeersList.push_back(peer);
+  }
+  qos.transport().user_transports.push_back(tcp);
+  qos.transport().use_builtin_transports = false;
+}
+
 }  // namespace
 
 dds::DomainParticipant* create_participant(const TransportOptions& options, dds::DomainParticipantListener* listener) {
@@ -76,9 +129,11 @@ dds::DomainParticipant* create_participant(const TransportOptions& options, dds:
 
   auto* factory = dds::DomainParticipantFactory::get_instance();
   dds::DomainParticipantQos qos = factory->get_default_participant_qos();
-  if (options.loopback_only &&
+  const bool tcp = options.tcp_listen.has_value() || options.tcp_server.has_value();
+  if (options.loopback_only && !tcp &&
       factory->get_participant_qos_from_profile(kLoopbackParticipantProfile, qos) != ReturnCode_t::RETCODE_OK)
     throw TransportError(where + profile_error("participant", kLoopbackParticipantProfile));
+  if (tcp) use_tcp(qos, options, where);
   qos.name(options.participant_name);
   if (options.security) add_security(qos, *options.security, where);
 

@@ -54,6 +54,10 @@ scene::SceneDef load_scaled_scene(const ServerOptions& o) {
 protocol::TransportOptions transport_options(const ServerOptions& o) {
   protocol::TransportOptions t{o.domain, o.loopback_only, "throng-server", std::nullopt};
   if (!o.security_dir.empty()) t.security = protocol::security_files(o.security_dir, protocol::kServerIdentity);
+  if (!o.listen.empty()) {
+    t.tcp_listen = protocol::parse_tcp_endpoint(o.listen);
+    t.tcp_public_address = o.public_address;
+  }
   return t;
 }
 
@@ -441,7 +445,12 @@ int MatchServer::run(bool handle_signals) {
                 m.options.allow_anonymous_operator ? ", and ANY participant may change parameters (--allow-anonymous-operator)"
                                                    : "; parameter changes are refused");
   spdlog::info("match {} on DDS domain {} ({}): scene '{}', {} bodies, {} Hz, up to {} clients{}", m.match.match_info().match_id,
-               m.options.domain, m.options.loopback_only ? "127.0.0.1 only" : "default network", m.scene.name,
+               m.options.domain,
+               !m.options.listen.empty()
+                   ? fmt::format("TCP, listening on {}{}", m.options.listen,
+                                 m.options.public_address.empty() ? "" : ", clients told " + m.options.public_address)
+                   : (m.options.loopback_only ? "127.0.0.1 only" : "default network"),
+               m.scene.name,
                m.match.world().pos_x().size(), m.options.match.tick_hz, m.options.match.max_clients,
                m.options.duration_s > 0 ? fmt::format(", for {} s", m.options.duration_s) : std::string(", until SIGINT/SIGTERM"));
   if (m.admin) spdlog::info("admin listening on {}:{} (/healthz /readyz /metrics)", m.options.admin_bind, m.admin->port());

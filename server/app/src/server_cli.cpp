@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "throng/protocol/dds_transport.h"
 #include "throng/server/agones_sdk.h"
 #include "throng/server/server_options.h"
 
@@ -36,6 +37,13 @@ ParseResult parse_server_options(const std::vector<std::string>& args) {
   app.add_option("--domain", o.domain, "DDS domain id")->check(CLI::Range(0, 232));
   app.add_flag("!--network", o.loopback_only,
                "use Fast DDS's default transports and discovery (real network) instead of 127.0.0.1 only");
+  app.add_option("--listen", o.listen,
+                 "tcp://ADDR:PORT: DDS over TCP only, listening there (0.0.0.0 = every interface); clients connect "
+                 "with --server tcp://HOST:PORT. No multicast, no UDP: for clouds and NAT")
+      ->check(protocol::check_tcp_endpoint);
+  app.add_option("--public-address", o.public_address,
+                 "with --listen: the IPv4 address clients reach the server at, when it is not the listening one "
+                 "(NAT, a cloud load balancer)");
   app.add_option("--duration", o.duration_s, "seconds to run (0 = until SIGINT/SIGTERM)")->check(CLI::Range(0.0, 1e7));
   app.add_option("--admin-port", o.admin_port, "admin HTTP port (/healthz /readyz /metrics); 0 = any free port, -1 = off")
       ->check(CLI::Range(-1, 65535));
@@ -80,6 +88,8 @@ ParseResult parse_server_options(const std::vector<std::string>& args) {
     app.parse(reversed);
     require_finite(o.duration_s, "--duration");
     require_finite(o.end_when_empty_s, "--end-when-empty");
+    if (!o.public_address.empty() && o.listen.empty())
+      throw CLI::ValidationError("--public-address", "needs --listen (it is the address of the TCP listener)");
     // Under Agones the sidecar's port comes from the environment, as in Agones's own SDKs.
     try {
       o.agones_port = agones_port_from_environment();

@@ -29,6 +29,18 @@ struct SecurityFiles {
   std::string permissions;     // this identity's signed permissions (topics and partitions)
 };
 
+// A TCP endpoint from "tcp://HOST:PORT" (parse_tcp_endpoint). host is an IPv4 address or a name
+// that resolves to one.
+struct TcpEndpoint {
+  std::string host;
+  std::uint16_t port = 0;
+};
+
+// Parses "tcp://HOST:PORT" (port 1..65535). Throws TransportError naming what is wrong.
+TcpEndpoint parse_tcp_endpoint(const std::string& text);
+// The same as a command-line check: "" when `text` parses, else the reason.
+std::string check_tcp_endpoint(const std::string& text);
+
 struct TransportOptions {
   int domain_id = 0;           // 0..232
   // true: the participant uses only 127.0.0.1 (UDPv4 whitelist + unicast discovery to 127.0.0.1,
@@ -37,6 +49,14 @@ struct TransportOptions {
   bool loopback_only = true;
   std::string participant_name = "throng";
   std::optional<SecurityFiles> security;  // nullopt: no DDS Security
+  // Reaching a server without multicast (a cloud, NAT): the server listens on TCP at `tcp_listen`
+  // (host 0.0.0.0 = every interface) and tells clients `tcp_public_address` (its address as they
+  // see it; empty = the one they connected to); a client connects to `tcp_server`. Either one
+  // replaces every other transport of the participant: discovery runs over that TCP connection,
+  // with no multicast and no well-known UDP ports. loopback_only is then ignored.
+  std::optional<TcpEndpoint> tcp_listen{};
+  std::string tcp_public_address{};
+  std::optional<TcpEndpoint> tcp_server{};
 };
 
 // Bytes and samples a transport wrote, for metrics (payload bytes as serialized, no RTPS headers).

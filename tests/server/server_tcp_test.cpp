@@ -1,0 +1,60 @@
+// A match reached over TCP only (--listen / --server): no multicast, no UDP discovery. Across
+// network namespaces this is deploy/netns-match.sh (a ctest of its own); here both ends are on this
+// host, the server on every interface and the client connecting to 127.0.0.1.
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include "server_test_support.h"
+
+namespace throng::test {
+namespace {
+
+std::uint16_t free_tcp_port() {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_ANY);
+  (void)::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
+  socklen_t len = sizeof a;
+  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
+  ::close(fd);
+  return ntohs(a.sin_port);
+}
+
+TEST(ServerTcp, AClientJoinsAndPlaysOverTcpOnly) {
+  const std::uint16_t port = free_tcp_port();
+  auto o = small_server_options(164);
+  o.listen = "tcp://0.0.0.0:" + std::to_string(port);
+  ServerThread server(o);
+  protocol::TransportOptions t{164, true, "tcp-client", std::nullopt};
+  t.tcp_server = protocol::TcpEndpoint{"127.0.0.1", port};
+  TestClient client(t, 15s);
+  const auto r = client.join(77, "over-tcp");
+  ASSERT_TRUE(r && r->result == protocol::JoinResult::accepted);
+  client.transport().send_command(standing_command(*r, 1));
+  EXPECT_TRUE(client.wait_until([&] { return last_applied(client.snapshots(), r->client_id) == 1; }))
+      << "no snapshot confirmed the command";
+  // Nothing of the match went over the domain's UDP discovery: a plain loopback client on the
+  // same domain finds no server.
+  protocol::TransportOptions plain{164, true, "udp-client", std::nullopt};
+  protocol::ClientTransport udp(plain);
+  udp.start({});
+  EXPECT_FALSE(udp.wait_for_server(2s)) << "the TCP-only server was reachable without TCP";
+}
+
+TEST(ServerTcp, ALoopbackOnlyListenerIsRefusedWithTheReason) {
+  auto o = small_server_options(165);
+  o.listen = "tcp://127.0.0.1:7400";
+  try {
+    server::MatchServer s(o);
+    ADD_FAILURE() << "a loopback TCP listener was accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("listen on 0.0.0.0"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace throng::test
