@@ -55,6 +55,11 @@ class SdkDouble {
     if (thread_.joinable()) thread_.join();
   }
   std::uint16_t port() const { return port_; }
+  // The body of GET /gameserver (Agones's GameServer as JSON).
+  void set_gameserver(std::string json) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    gameserver_ = std::move(json);
+  }
   std::vector<Request> requests() {
     std::lock_guard<std::mutex> lock(mutex_);
     return requests_;
@@ -105,7 +110,13 @@ class SdkDouble {
         const auto head_end = in.find("\r\n\r\n");
         if (head_end != std::string::npos) r.body = in.substr(head_end + 4);
       }
-      const std::string reply = "HTTP/1.1 200 OK\r\nContent-Type: application/json\r\nContent-Length: 2\r\nConnection: close\r\n\r\n{}";
+      std::string body = "{}";
+      if (r.method == "GET" && r.path == "/gameserver") {
+        std::lock_guard<std::mutex> lock(mutex_);
+        body = gameserver_;
+      }
+      const std::string reply = "HTTP/1.1 200 OK\r\nContent-Type: application/json\r\nContent-Length: " +
+                                std::to_string(body.size()) + "\r\nConnection: close\r\n\r\n" + body;
       (void)::send(c, reply.data(), reply.size(), MSG_NOSIGNAL);
       ::close(c);
       std::lock_guard<std::mutex> lock(mutex_);
@@ -118,6 +129,7 @@ class SdkDouble {
   std::atomic<bool> stopping_{false};
   std::mutex mutex_;
   std::vector<Request> requests_;
+  std::string gameserver_ = "{}";
   std::thread thread_;
 };
 
@@ -214,6 +226,25 @@ TEST(Agones, ASidecarThatStartsLateStillHearsReadyAndShutdown) {
   EXPECT_EQ(server.server().summary()["end_reason"], "stopped");
   EXPECT_EQ(sdk.of("POST", "/shutdown").size(), 1u);
   EXPECT_EQ(sdk.requests().front().path, "/ready");
+}
+
+// --listen agones: the server listens on the port Agones allocated to "dds" (portPolicy
+// Passthrough) and players connect to it.
+TEST(Agones, ListensOnThePortAgonesAllocatedToDds) {
+  SdkDouble sdk;
+  const std::uint16_t port = free_tcp_port();
+  sdk.set_gameserver(R"({"object_meta":{"name":"throng-abc"},"status":{"state":"Scheduled","address":"127.0.0.1",)"
+                     R"("ports":[{"name":"admin","port":1},{"name":"dds","port":)" + std::to_string(port) + "}]}}");
+  auto o = agones_options(166, sdk.port());
+  o.listen = server::kListenAgones;
+  ServerThread server(o);
+  protocol::TransportOptions t{166, true, "agones-player", std::nullopt};
+  t.tcp_server = protocol::TcpEndpoint{"127.0.0.1", port};
+  TestClient player(t, 15s);
+  const auto r = player.join(5, "player");
+  ASSERT_TRUE(r && r->result == protocol::JoinResult::accepted);
+  ASSERT_FALSE(sdk.of("GET", "/gameserver").empty());
+  server.stop();
 }
 
 }  // namespace

@@ -1,28 +1,12 @@
 // A match reached over TCP only (--listen / --server): no multicast, no UDP discovery. Across
 // network namespaces this is deploy/netns-match.sh (a ctest of its own); here both ends are on this
 // host, the server on every interface and the client connecting to 127.0.0.1.
-#include <netinet/in.h>
-#include <sys/socket.h>
-#include <unistd.h>
-
 #include <gtest/gtest.h>
 
 #include "server_test_support.h"
 
 namespace throng::test {
 namespace {
-
-std::uint16_t free_tcp_port() {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_ANY);
-  (void)::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-  socklen_t len = sizeof a;
-  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
-  ::close(fd);
-  return ntohs(a.sin_port);
-}
 
 TEST(ServerTcp, AClientJoinsAndPlaysOverTcpOnly) {
   const std::uint16_t port = free_tcp_port();

@@ -1,6 +1,10 @@
 #pragma once
 // In-process server + DDS test client for the integration tests. Everything waits on condition
 // variables with a deadline, so a broken server fails a test in seconds instead of hanging ctest.
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -71,6 +75,19 @@ inline bool wait_for_command_writers(ServerThread& server, std::uint64_t writers
     std::this_thread::sleep_for(10ms);
   }
   return true;
+}
+
+// A TCP port nobody listens on at the moment of asking (the test then listens on it).
+inline std::uint16_t free_tcp_port() {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_ANY);
+  (void)::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
+  socklen_t len = sizeof a;
+  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
+  ::close(fd);
+  return ntohs(a.sin_port);
 }
 
 // One client on its own participant; records everything it receives.

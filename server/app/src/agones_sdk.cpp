@@ -13,6 +13,7 @@
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
+#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
 namespace throng::server {
@@ -31,7 +32,54 @@ void set_socket_timeout(asio::ip::tcp::socket& s, std::chrono::milliseconds t) {
   ::setsockopt(s.native_handle(), SOL_SOCKET, SO_SNDTIMEO, &tv, sizeof tv);
 }
 
+// One request on a fresh connection (the sidecar is local; nothing to gain from keep-alive).
+// Returns the response body; throws on a connection error or a non-2xx status.
+std::string http_call(std::uint16_t port, http::verb verb, const std::string& target, const std::string& body,
+                      std::chrono::milliseconds timeout) {
+  asio::io_context io;
+  asio::ip::tcp::socket socket(io);
+  socket.connect({asio::ip::make_address("127.0.0.1"), port});
+  set_socket_timeout(socket, timeout);
+  http::request<http::string_body> req{verb, target, 11};
+  req.set(http::field::host, "127.0.0.1");
+  req.set(http::field::content_type, "application/json");
+  req.set(http::field::connection, "close");
+  req.body() = body;
+  req.prepare_payload();
+  http::write(socket, req);
+  boost::beast::flat_buffer buffer;
+  http::response<http::string_body> res;
+  http::read(socket, buffer, res);
+  boost::system::error_code ignored;
+  socket.shutdown(asio::ip::tcp::socket::shutdown_both, ignored);
+  if (res.result_int() / 100 != 2) throw std::runtime_error("HTTP " + std::to_string(res.result_int()) + " " + res.body());
+  return res.body();
+}
+
 }  // namespace
+
+AgonesEndpoint agones_endpoint(std::uint16_t sdk_port, const std::string& port_name, std::chrono::milliseconds timeout) {
+  const auto deadline = Clock::now() + timeout;
+  std::string last_problem;
+  while (true) {
+    try {
+      const auto j = nlohmann::json::parse(http_call(sdk_port, http::verb::get, "/gameserver", "", std::chrono::seconds(2)));
+      const auto& status = j.at("status");
+      AgonesEndpoint e;
+      e.address = status.value("address", std::string());
+      for (const auto& p : status.value("ports", nlohmann::json::array()))
+        if (p.value("name", std::string()) == port_name) e.port = static_cast<std::uint16_t>(p.value("port", 0));
+      if (!e.address.empty() && e.port != 0) return e;
+      last_problem = "the GameServer has no address or no port named '" + port_name + "' yet";
+    } catch (const std::exception& e) {
+      last_problem = e.what();
+    }
+    if (Clock::now() > deadline)
+      throw std::runtime_error("Agones SDK on 127.0.0.1:" + std::to_string(sdk_port) + ": GET /gameserver gave no endpoint within " +
+                               std::to_string(timeout.count() / 1000) + " s (" + last_problem + ")");
+    std::this_thread::sleep_for(std::chrono::milliseconds(250));
+  }
+}
 
 std::uint16_t agones_port_from_environment() {
   const char* v = std::getenv("AGONES_SDK_HTTP_PORT");
@@ -57,26 +105,9 @@ struct AgonesSdk::Impl {
 
   Impl(const AgonesOptions& o, const AgonesProbe& p) : options(o), probe(p) { thread = std::thread([this] { run(); }); }
 
-  // One request on a fresh connection (the sidecar is local; nothing to gain from keep-alive).
   bool call(http::verb verb, const std::string& target, const std::string& body) {
     try {
-      asio::io_context io;
-      asio::ip::tcp::socket socket(io);
-      socket.connect({asio::ip::make_address("127.0.0.1"), options.port});
-      set_socket_timeout(socket, options.request_timeout);
-      http::request<http::string_body> req{verb, target, 11};
-      req.set(http::field::host, "127.0.0.1");
-      req.set(http::field::content_type, "application/json");
-      req.set(http::field::connection, "close");
-      req.body() = body;
-      req.prepare_payload();
-      http::write(socket, req);
-      boost::beast::flat_buffer buffer;
-      http::response<http::string_body> res;
-      http::read(socket, buffer, res);
-      boost::system::error_code ignored;
-      socket.shutdown(asio::ip::tcp::socket::shutdown_both, ignored);
-      if (res.result_int() / 100 != 2) throw std::runtime_error("HTTP " + std::to_string(res.result_int()) + " " + res.body());
+      (void)http_call(options.port, verb, target, body, options.request_timeout);
       if (failing) spdlog::info("Agones SDK on port {} answers again", options.port);
       failing = false;
       return true;

@@ -54,7 +54,16 @@ scene::SceneDef load_scaled_scene(const ServerOptions& o) {
 protocol::TransportOptions transport_options(const ServerOptions& o) {
   protocol::TransportOptions t{o.domain, o.loopback_only, "throng-server", std::nullopt};
   if (!o.security_dir.empty()) t.security = protocol::security_files(o.security_dir, protocol::kServerIdentity);
-  if (!o.listen.empty()) {
+  if (o.listen == kListenAgones) {
+    // Agones (portPolicy Passthrough): the port it allocated to the GameServer's "dds" port is
+    // both the container's and the node's, and status.address is where players connect.
+    if (o.agones_port == 0) throw std::runtime_error("--listen agones: AGONES_SDK_HTTP_PORT is not set (not under Agones?)");
+    const AgonesEndpoint e = agones_endpoint(o.agones_port, "dds", std::chrono::seconds(30));
+    t.tcp_listen = protocol::TcpEndpoint{"0.0.0.0", e.port};
+    t.tcp_public_address = o.public_address.empty() ? e.address : o.public_address;
+    spdlog::info("Agones allocated port {} to 'dds': listening on tcp://0.0.0.0:{}, players connect to tcp://{}:{}", e.port,
+                 e.port, t.tcp_public_address, e.port);
+  } else if (!o.listen.empty()) {
     t.tcp_listen = protocol::parse_tcp_endpoint(o.listen);
     t.tcp_public_address = o.public_address;
   }

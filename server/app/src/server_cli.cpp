@@ -39,8 +39,9 @@ ParseResult parse_server_options(const std::vector<std::string>& args) {
                "use Fast DDS's default transports and discovery (real network) instead of 127.0.0.1 only");
   app.add_option("--listen", o.listen,
                  "tcp://ADDR:PORT: DDS over TCP only, listening there (0.0.0.0 = every interface); clients connect "
-                 "with --server tcp://HOST:PORT. No multicast, no UDP: for clouds and NAT")
-      ->check(protocol::check_tcp_endpoint);
+                 "with --server tcp://HOST:PORT. No multicast, no UDP: for clouds and NAT. 'agones': the port Agones "
+                 "allocated to the GameServer's port named dds (portPolicy Passthrough), told as the node's address")
+      ->check([](const std::string& v) { return v == kListenAgones ? std::string() : protocol::check_tcp_endpoint(v); });
   app.add_option("--public-address", o.public_address,
                  "with --listen: the IPv4 address clients reach the server at, when it is not the listening one "
                  "(NAT, a cloud load balancer)");
@@ -96,6 +97,8 @@ ParseResult parse_server_options(const std::vector<std::string>& args) {
     } catch (const std::invalid_argument& e) {
       throw CLI::ValidationError("AGONES_SDK_HTTP_PORT", e.what());
     }
+    if (o.listen == kListenAgones && o.agones_port == 0)
+      throw CLI::ValidationError("--listen", "agones needs AGONES_SDK_HTTP_PORT (set by Agones in the game server's pod)");
     require_finite(m.client_timeout_s, "--client-timeout");
     require_finite(m.interest.radius_m, "--interest-radius");
     require_finite(client_kbps, "--client-kbps");

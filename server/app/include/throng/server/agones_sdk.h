@@ -32,6 +32,16 @@ struct AgonesOptions {
   std::string player_label = "players";
 };
 
+// Where Agones says players reach this game server: the node's address and the port allocated
+// to the GameServer's port named `port_name` (GET /gameserver, status.address and status.ports).
+// With portPolicy Passthrough the container listens on that same port. Retries until the sidecar
+// answers with both, or throws std::runtime_error after `timeout`.
+struct AgonesEndpoint {
+  std::string address;
+  std::uint16_t port = 0;
+};
+AgonesEndpoint agones_endpoint(std::uint16_t sdk_port, const std::string& port_name, std::chrono::milliseconds timeout);
+
 // The port from AGONES_SDK_HTTP_PORT, or 0 when it is not set. Throws std::invalid_argument when
 // it is set but not a port number.
 std::uint16_t agones_port_from_environment();
