@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "server_test_support.h"
 #include "support/child_process.h"
@@ -75,6 +76,34 @@ std::string http_get(std::uint16_t port, const std::string& path) {
   for (ssize_t n; (n = ::read(fd, buf, sizeof buf)) > 0;) out.append(buf, static_cast<std::size_t>(n));
   ::close(fd);
   return out;
+}
+
+// --log-format json: every stderr line is one JSON object naming the match (log collectors index
+// them); the text format names it too. The match log lands in --log-dir under the match id.
+TEST(ServerProcess, EveryLogLineNamesTheMatchInJsonOrText) {
+  TempDir dir("throng-logfmt");
+  for (const std::string format : {"json", "text"}) {
+    ChildProcess server(kServer,
+                        {"--duration", "0.5", "--npcs", "300", "--admin-port", "-1", "--domain", "159", "--log-format",
+                         format, "--log-dir", (dir / format).string(), "--summary-json", (dir / "s.json").string()},
+                        dir / "out.txt", dir / "err.txt");
+    ASSERT_EQ(server.wait(20s), 0) << read_file(dir / "err.txt");
+    const std::string id = nlohmann::json::parse(read_file(dir / "s.json"))["match_id"];
+    std::istringstream lines(read_file(dir / "err.txt"));
+    int count = 0;
+    for (std::string line; std::getline(lines, line); ++count) {
+      if (format == "json") {
+        const auto j = nlohmann::json::parse(line);  // throws (fails the test) on a line that is not JSON
+        EXPECT_EQ(j["match"], id) << line;
+        EXPECT_FALSE(j["msg"].get<std::string>().empty()) << line;
+        EXPECT_TRUE(j.contains("time") && j.contains("level")) << line;
+      } else {
+        EXPECT_NE(line.find("[" + id + "]"), std::string::npos) << line;
+      }
+    }
+    EXPECT_GE(count, 3) << format;
+    EXPECT_TRUE(std::filesystem::exists(dir / format / (id + ".tlog"))) << "no match log in --log-dir";
+  }
 }
 
 TEST(ServerProcess, AdminEndpointServesHealthReadinessAndMetrics) {

@@ -5,8 +5,9 @@
 #include <string>
 #include <vector>
 
-#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
+
+#include "throng/server/log_setup.h"
 
 #include "throng/server/match_server.h"
 #include "throng/server/server_options.h"
@@ -19,10 +20,9 @@ int main(int argc, char** argv) {
     return parsed.exit_code;
   }
   // Logs go to stderr so stdout carries only the summary (scripts can capture it).
-  auto logger = spdlog::stderr_color_mt("throng-server");
-  logger->set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%^%l%$] %v");
-  logger->set_level(spdlog::level::from_str(parsed.options->log_level));
-  spdlog::set_default_logger(logger);
+  throng::server::configure_logging(
+      parsed.options->log_format == "json" ? throng::server::LogFormat::json : throng::server::LogFormat::text,
+      parsed.options->log_level);
   try {
     throng::server::MatchServer server(*parsed.options);
     return server.run();

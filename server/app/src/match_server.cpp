@@ -25,6 +25,7 @@
 #include "throng/server/client_ledger.h"
 #include "throng/server/duration_stats.h"
 #include "throng/server/keyframe_saver.h"
+#include "throng/server/log_setup.h"
 #include "throng/server/server_metrics.h"
 #include "throng/server/server_summary.h"
 #include "throng/server/tick_schedule.h"
@@ -70,10 +71,13 @@ protocol::TransportOptions transport_options(const ServerOptions& o) {
   return t;
 }
 
+// The match id; from here on every log line carries it.
 std::string make_match_id(const std::string& scene_name) {
   const auto now = std::chrono::system_clock::now().time_since_epoch();
-  return scene_name + "-" + std::to_string(std::chrono::duration_cast<std::chrono::seconds>(now).count()) + "-" +
-         std::to_string(::getpid());
+  std::string id = scene_name + "-" + std::to_string(std::chrono::duration_cast<std::chrono::seconds>(now).count()) +
+                   "-" + std::to_string(::getpid());
+  set_log_match_id(id);
+  return id;
 }
 
 }  // namespace
@@ -145,7 +149,8 @@ struct MatchServer::Impl {
       admin = std::make_unique<admin::AdminServer>(registry, [this] { return ready.load(); }, ao);
     }
     if (!o.log_file.empty()) {
-      const std::string path = o.log_file == "auto" ? "logs/" + match.match_info().match_id + ".tlog" : o.log_file;
+      const std::string path =
+          o.log_file == "auto" ? o.log_dir + "/" + match.match_info().match_id + ".tlog" : o.log_file;
       log = std::make_unique<matchlog::MatchLogWriter>(path);
       matchlog::LogHeader h;
       h.match_id = match.match_info().match_id;

@@ -64,7 +64,7 @@ ParseResult parse_server_options(const std::vector<std::string>& args) {
   app.add_option("--npc-speed", m.npc_speed_mps, "m/s NPCs march at")->check(CLI::Range(0.0, 50.0));
   app.add_option("--threads", m.worker_threads, "threads building and publishing snapshots (results do not depend on it)")
       ->check(CLI::Range(1u, 64u));
-  app.add_option("--log", o.log_file, "match log file (replay with throng-replay); default logs/<match id>.tlog");
+  app.add_option("--log", o.log_file, "match log file (replay with throng-replay); default <--log-dir>/<match id>.tlog");
   bool no_log = false;
   app.add_flag("--no-log", no_log, "do not write a match log");
   app.add_option("--security", o.security_dir,
@@ -80,6 +80,9 @@ ParseResult parse_server_options(const std::vector<std::string>& args) {
                  "first player joined; 0 = never). Under Agones the server then calls /shutdown")
       ->check(CLI::Range(0.0, 1e7));
   app.add_option("--summary-json", o.summary_json, "write the end-of-match summary to this JSON file");
+  app.add_option("--log-format", o.log_format, "text, or json: one JSON object per line (time, level, match, msg)")
+      ->check(CLI::IsMember({"text", "json"}));
+  app.add_option("--log-dir", o.log_dir, "directory of the match log when --log is not given (<dir>/<match id>.tlog)");
   app.add_option("--log-level", o.log_level, "trace, debug, info, warn or error")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
 

@@ -27,6 +27,8 @@ struct ServerOptions {
   std::string summary_json;        // written at exit when set
   std::string log_file = "auto";   // match log: "auto" = logs/<match id>.tlog, "" = none (--no-log)
   std::string log_level = "info";  // trace, debug, info, warn, error
+  std::string log_format = "text"; // text or json (one object per line, for log collectors)
+  std::string log_dir = "logs";    // where --log auto puts <match id>.tlog
   std::uint32_t max_catchup_ticks = 3;
   // Parameter changes (ParamUpdate) are accepted only from operators. With --security, DDS access
   // control lets only identities with the operator permission write them; without it, nobody can
