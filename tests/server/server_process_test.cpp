@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <sstream>
 
 #include "server_test_support.h"
@@ -123,6 +124,18 @@ TEST(ServerProcess, AdminEndpointServesHealthReadinessAndMetrics) {
                            "throng_clients 1", "throng_commands_rejected_total{reason=\"non_finite\"}",
                            "throng_snapshot_bytes_total", "throng_push_events_total"})
     EXPECT_NE(metrics.find(name), std::string::npos) << name << " missing from /metrics";
+  // The Grafana dashboard in deploy/ charts only series the server exports (a renamed metric must
+  // not leave an empty panel behind).
+  const std::string dashboard = read_file(std::filesystem::path(THRONG_SOURCE_DIR) / "deploy/grafana/throng-dashboard.json");
+  const std::regex series("throng_[a-z_]+");
+  int charted = 0;
+  for (auto it = std::sregex_iterator(dashboard.begin(), dashboard.end(), series); it != std::sregex_iterator(); ++it) {
+    std::string name = it->str();
+    if (name == "throng_matches") continue;  // the dashboard's own uid
+    ++charted;
+    EXPECT_NE(metrics.find("\n" + name), std::string::npos) << name << " is charted but not in /metrics";
+  }
+  EXPECT_GE(charted, 10);
 }
 
 TEST(ServerProcess, BadCommandLinesAreRejectedWithAClearMessage) {
