@@ -19,6 +19,7 @@ PACKAGES=(
   chromium             # headless browser for throng-view's end-to-end test (DevTools protocol)
   libzstd-dev          # match-log tick blocks compressed with zstd
   openssl              # throng-pki: DDS Security certificates and signed governance/permissions
+  iproute2 python3     # the hosting test: a match over TCP across network namespaces (ip netns), its report
 )
 
 if [ "$(id -u)" -ne 0 ]; then SUDO=sudo; else SUDO=; fi
