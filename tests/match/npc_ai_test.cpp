@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 #include "../../server/match/src/npc_ai.h"
@@ -131,6 +132,33 @@ TEST(NpcAi, LowMoraleGroupRetreats) {
   EXPECT_GT(group_x(broken.world(), 1), start1 + 3.0);
   // The broken group keeps its distance: no enemy contact.
   EXPECT_EQ(enemy_contacts(broken.world()), 0u);
+  // Its side is routed (its only group retreats); nobody is in the steady match.
+  EXPECT_EQ(broken.routed_faction(), std::optional<std::uint8_t>(2));
+  EXPECT_EQ(steady.routed_faction(), std::nullopt);
+}
+
+// A side is routed when every one of its groups that still has NPCs retreats; the neutral
+// faction, empty groups and a side with one group holding never are.
+TEST(NpcAi, RoutedFactionNeedsEveryFieldedGroupRetreating) {
+  auto group = [](std::uint8_t faction, std::uint32_t npcs, bool retreating) {
+    AiGroup g;
+    g.faction = faction;
+    g.npcs = npcs;
+    g.members = npcs;
+    g.retreating = retreating;
+    return g;
+  };
+  EXPECT_EQ(routed_faction(std::vector<AiGroup>{}), std::nullopt);
+  EXPECT_EQ(routed_faction(std::vector<AiGroup>{group(1, 10, false), group(2, 10, false)}), std::nullopt);
+  EXPECT_EQ(routed_faction(std::vector<AiGroup>{group(1, 10, false), group(2, 10, true), group(2, 5, true)}),
+            std::optional<std::uint8_t>(2));
+  EXPECT_EQ(routed_faction(std::vector<AiGroup>{group(2, 10, true), group(2, 5, false)}), std::nullopt)
+      << "one group of the side still holds";
+  EXPECT_EQ(routed_faction(std::vector<AiGroup>{group(2, 10, true), group(2, 0, false)}), std::optional<std::uint8_t>(2))
+      << "a group without NPCs (players only) does not hold the side";
+  EXPECT_EQ(routed_faction(std::vector<AiGroup>{group(0, 10, true)}), std::nullopt) << "neutral is never routed";
+  EXPECT_EQ(routed_faction(std::vector<AiGroup>{group(3, 1, true), group(2, 1, true)}), std::optional<std::uint8_t>(2))
+      << "the lowest faction first";
 }
 
 // Runs the AI on its own over a built scene, following the World's dense re-sorts like Match does.

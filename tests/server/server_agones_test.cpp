@@ -7,6 +7,8 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <filesystem>
+#include <fstream>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -245,6 +247,48 @@ TEST(Agones, ListensOnThePortAgonesAllocatedToDds) {
   ASSERT_TRUE(r && r->result == protocol::JoinResult::accepted);
   ASSERT_FALSE(sdk.of("GET", "/gameserver").empty());
   server.stop();
+}
+
+
+// --end-when-routed: a side whose every group retreats (here: group 2's morale broken in the
+// scene's table) has lost; the match ends by itself once that lasted the configured time.
+TEST(MatchEnd, ARoutedSideEndsTheMatch) {
+  const auto dir = std::filesystem::temp_directory_path() / ("throng-routed-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto scene = dir / "routed.json";
+  {
+    std::ofstream f(scene);
+    f << R"({"version": 1, "name": "routed", "ticks": 100, "seed": 3,
+      "params": {"archetypes": {"infantry": {"kind": "foot", "weight": 80}},
+                 "groups": [{"id": 1}, {"id": 2, "morale": -50}]},
+      "spawns": [
+        {"name": "red", "count": 40, "shape": {"type": "rect", "centre": [-12, 0], "half_extents_m": [4, 4]},
+         "radius_m": 0.35, "archetype": "infantry", "faction": 1, "group": 1,
+         "behaviour": {"type": "march", "direction": [1, 0], "speed_mps": 1.2}},
+        {"name": "blue", "count": 40, "shape": {"type": "rect", "centre": [12, 0], "half_extents_m": [4, 4]},
+         "radius_m": 0.35, "archetype": "infantry", "faction": 2, "group": 2,
+         "behaviour": {"type": "march", "direction": [-1, 0], "speed_mps": 1.2}}]})";
+  }
+  auto o = small_server_options(167);
+  o.scene = scene.string();
+  o.npcs = 0;
+  o.end_when_routed_s = 0.3;
+  ServerThread server(o);
+  const auto deadline = Clock::now() + 10s;
+  while (!server.done() && Clock::now() < deadline) std::this_thread::sleep_for(20ms);
+  ASSERT_TRUE(server.done()) << "the match did not end although side 2 was routed";
+  EXPECT_EQ(server.exit_code(), 0);
+  EXPECT_EQ(server.server().summary()["end_reason"], "routed");
+
+  // The same match without the option runs until stopped.
+  o.end_when_routed_s = 0.0;
+  o.domain = 168;
+  ServerThread steady(o);
+  std::this_thread::sleep_for(1s);
+  EXPECT_FALSE(steady.done());
+  steady.stop();
+  EXPECT_EQ(steady.server().summary()["end_reason"], "stopped");
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

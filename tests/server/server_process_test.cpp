@@ -151,6 +151,7 @@ TEST(ServerProcess, BadCommandLinesAreRejectedWithAClearMessage) {
       {{"--client-timeout", "inf"}, "--client-timeout"},
       {{"--end-when-empty", "nan"}, "--end-when-empty"},
       {{"--end-when-empty", "-1"}, "--end-when-empty"},
+      {{"--end-when-routed", "inf"}, "--end-when-routed"},
       {{"--listen", "tcp://0.0.0.0"}, "host and port are both needed"},
       {{"--listen", "udp://0.0.0.0:7400"}, "must start with tcp://"},
       {{"--public-address", "10.0.0.1"}, "needs --listen"},

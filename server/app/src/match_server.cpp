@@ -124,6 +124,8 @@ struct MatchServer::Impl {
   // --end-when-empty: a first player joined; since when nobody is connected.
   bool ever_joined = false;
   std::optional<Clock::time_point> empty_since;
+  // --end-when-routed: since when a side has been routed.
+  std::optional<Clock::time_point> routed_since;
   AgonesProbe agones_probe;
   std::unique_ptr<AgonesSdk> agones;
 
@@ -135,6 +137,7 @@ struct MatchServer::Impl {
     stop_requested.store(true);
   }
   void check_empty(Clock::time_point now);
+  void check_routed(Clock::time_point now);
 
   explicit Impl(const ServerOptions& o)
       : options(o),
@@ -234,6 +237,27 @@ void MatchServer::request_stop() { impl_->request_end("stopped"); }
 
 // --end-when-empty: once a first player joined, the match ends when nobody has been connected for
 // the configured time (a fleet's server must not idle forever after its players left).
+// --end-when-routed: a side whose every NPC group keeps retreating for the configured time has lost.
+void MatchServer::Impl::check_routed(Clock::time_point now) {
+  if (options.end_when_routed_s <= 0.0 || finished) return;
+  const std::optional<std::uint8_t> routed = match.routed_faction();
+  if (!routed) {
+    if (routed_since) spdlog::info("no side is routed any more");
+    routed_since.reset();
+    return;
+  }
+  if (!routed_since) {
+    routed_since = now;
+    spdlog::info("faction {} is routed (every group retreating): the match ends in {} s unless it rallies", *routed,
+                 options.end_when_routed_s);
+    return;
+  }
+  if (seconds_between(*routed_since, now) >= options.end_when_routed_s) {
+    spdlog::info("faction {} routed for {} s: ending the match", *routed, options.end_when_routed_s);
+    request_end("routed");
+  }
+}
+
 void MatchServer::Impl::check_empty(Clock::time_point now) {
   if (options.end_when_empty_s <= 0.0 || finished) return;
   if (match.client_count() > 0) {
@@ -400,6 +424,7 @@ void MatchServer::Impl::run_tick(Clock::time_point woke) {
   }
   if (done - last_progress >= std::chrono::seconds(10)) log_progress(done);
   check_empty(done);
+  check_routed(done);
   agones_probe.players.store(match.client_count());
   agones_probe.ticks.store(report.tick);
   if (options.tick_hook_for_tests) options.tick_hook_for_tests(report.tick);

@@ -79,6 +79,10 @@ ParseResult parse_server_options(const std::vector<std::string>& args) {
                  "end the match once every player has left and nobody joined for this many seconds (counted after a "
                  "first player joined; 0 = never). Under Agones the server then calls /shutdown")
       ->check(CLI::Range(0.0, 1e7));
+  app.add_option("--end-when-routed", o.end_when_routed_s,
+                 "end the match once one side has been routed (every NPC group of a faction retreating) for this many "
+                 "seconds (0 = never)")
+      ->check(CLI::Range(0.0, 1e7));
   app.add_option("--summary-json", o.summary_json, "write the end-of-match summary to this JSON file");
   app.add_option("--log-format", o.log_format, "text, or json: one JSON object per line (time, level, match, msg)")
       ->check(CLI::IsMember({"text", "json"}));
@@ -92,6 +96,7 @@ ParseResult parse_server_options(const std::vector<std::string>& args) {
     app.parse(reversed);
     require_finite(o.duration_s, "--duration");
     require_finite(o.end_when_empty_s, "--end-when-empty");
+    require_finite(o.end_when_routed_s, "--end-when-routed");
     if (!o.public_address.empty() && o.listen.empty())
       throw CLI::ValidationError("--public-address", "needs --listen (it is the address of the TCP listener)");
     // Under Agones the sidecar's port comes from the environment, as in Agones's own SDKs.

@@ -160,6 +160,8 @@ std::vector<ClientSummary> Match::clients() const {
   return out;
 }
 
+std::optional<std::uint8_t> Match::routed_faction() const { return match::routed_faction(impl_->ai.groups()); }
+
 std::uint32_t Match::npc_count() const {
   return static_cast<std::uint32_t>(impl_->world().body_count() - impl_->clients.connected_count());
 }

@@ -1,5 +1,7 @@
 #include "npc_ai.h"
 
+#include <array>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -338,6 +340,19 @@ std::uint32_t NpcAi::nearest_enemy(double x, double y, std::uint32_t fslot, std:
     if (best <= reach * reach) break;
   }
   return best <= r_max2 ? found : kNoTarget;
+}
+
+std::optional<std::uint8_t> routed_faction(std::span<const AiGroup> groups) {
+  // Per faction: any group with NPCs, and any such group that still holds.
+  std::array<bool, 256> fielded{}, holding{};
+  for (const AiGroup& g : groups) {
+    if (g.npcs == 0 || g.faction == params::kNeutralFaction) continue;
+    fielded[g.faction] = true;
+    if (!g.retreating) holding[g.faction] = true;
+  }
+  for (std::size_t f = 1; f < fielded.size(); ++f)
+    if (fielded[f] && !holding[f]) return static_cast<std::uint8_t>(f);
+  return std::nullopt;
 }
 
 void NpcAi::update_groups(const World& world) {

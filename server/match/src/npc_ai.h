@@ -30,6 +30,7 @@
 // retreat_below_morale retreats. So an operator (or a scene's table) lowering a group's base
 // morale makes it fall back under any policy.
 #include <cstdint>
+#include <optional>
 #include <map>
 #include <span>
 #include <utility>
@@ -74,6 +75,11 @@ struct AiGroup {
   double morale = 0.0;                    // the value compared with retreat_below_morale
   bool retreating = false;
 };
+
+// The faction that is routed, if any: it still has groups with AI-controlled members and every
+// one of them is retreating (its morale fell below retreat_below_morale while facing an enemy).
+// Never the neutral faction; the lowest faction number when several are.
+std::optional<std::uint8_t> routed_faction(std::span<const AiGroup> groups);
 
 class NpcAi {
  public:

@@ -37,6 +37,9 @@ struct ServerOptions {
   // End of match besides --duration: every player has left and none came back for this many
   // seconds (counted once a first player joined). 0 = off.
   double end_when_empty_s = 0.0;
+  // ... or one side has been routed (every AI group of a faction retreating) for this many
+  // seconds. 0 = off.
+  double end_when_routed_s = 0.0;
   // Agones REST SDK sidecar port (agones_sdk.h): from AGONES_SDK_HTTP_PORT; 0 = not under Agones.
   std::uint16_t agones_port = 0;
   std::uint32_t agones_health_interval_ms = 2000;  // tests shorten it

@@ -183,6 +183,8 @@ class Match {
   std::uint32_t client_count() const;
   std::vector<ClientSummary> clients() const;
   std::uint32_t npc_count() const;
+  // A side whose every AI group is retreating (npc_ai.h routed_faction), as of the last tick.
+  std::optional<std::uint8_t> routed_faction() const;
   // Totals since the match started, by reason.
   const std::array<std::uint64_t, kRejectReasonCount>& rejected_by_reason() const;
   std::uint64_t commands_accepted_total() const;
