@@ -30,5 +30,6 @@ if ! pm image exists localhost/throng-base:bookworm; then
   rm -rf "$root"
 fi
 echo "build-image: building $tag"
-pm build --network host -f "$here/deploy/docker/Containerfile" -t "$tag" "$here"
+# docker format: OCI images drop HEALTHCHECK.
+pm build --format docker --network host -f "$here/deploy/docker/Containerfile" -t "$tag" "$here"
 pm image ls "$tag"

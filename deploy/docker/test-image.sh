@@ -12,8 +12,8 @@ pm run -d --name "$name" --network host -e THRONG_LISTEN=tcp://0.0.0.0:7460 -e T
   -e THRONG_NPCS=1000 -e THRONG_LOG_FORMAT=json "$tag" >/dev/null
 for _ in $(seq 1 50); do curl -fsS http://127.0.0.1:9480/healthz >/dev/null 2>&1 && break; sleep 0.2; done
 echo "test-image: /healthz -> $(curl -fsS http://127.0.0.1:9480/healthz)"
-"$bin/throng-bots" --server tcp://127.0.0.1:7460 --clients 20 --duration 10 --json /tmp/$name-bots.json -q
-pm healthcheck run "$name" && echo "test-image: container HEALTHCHECK healthy"
+"$bin/throng-bots" --server tcp://127.0.0.1:7460 --clients 20 --duration 10 --server-wait 30 --json /tmp/$name-bots.json -q
+pm healthcheck run "$name" && echo "test-image: container HEALTHCHECK healthy" || { echo "test-image: HEALTHCHECK failed" >&2; exit 1; }
 pm kill --signal TERM "$name" >/dev/null
 pm wait "$name" >/dev/null || true
 echo "test-image: exit code $(pm inspect -f '{{.State.ExitCode}}' "$name")"
