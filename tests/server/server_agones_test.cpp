@@ -240,9 +240,7 @@ TEST(Agones, ListensOnThePortAgonesAllocatedToDds) {
   auto o = agones_options(166, sdk.port());
   o.listen = server::kListenAgones;
   ServerThread server(o);
-  protocol::TransportOptions t{166, true, "agones-player", std::nullopt};
-  t.tcp_server = protocol::TcpEndpoint{"127.0.0.1", port};
-  TestClient player(t, 15s);
+  TestClient player(tcp_client_options(166, port, "agones-player"), 15s);
   const auto r = player.join(5, "player");
   ASSERT_TRUE(r && r->result == protocol::JoinResult::accepted);
   ASSERT_FALSE(sdk.of("GET", "/gameserver").empty());

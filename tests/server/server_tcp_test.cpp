@@ -13,9 +13,7 @@ TEST(ServerTcp, AClientJoinsAndPlaysOverTcpOnly) {
   auto o = small_server_options(164);
   o.listen = "tcp://0.0.0.0:" + std::to_string(port);
   ServerThread server(o);
-  protocol::TransportOptions t{164, true, "tcp-client", std::nullopt};
-  t.tcp_server = protocol::TcpEndpoint{"127.0.0.1", port};
-  TestClient client(t, 15s);
+  TestClient client(tcp_client_options(164, port, "tcp-client"), 15s);
   const auto r = client.join(77, "over-tcp");
   ASSERT_TRUE(r && r->result == protocol::JoinResult::accepted);
   client.transport().send_command(standing_command(*r, 1));

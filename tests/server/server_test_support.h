@@ -12,6 +12,7 @@
 #include <functional>
 #include <mutex>
 #include <optional>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -88,6 +89,13 @@ inline std::uint16_t free_tcp_port() {
   ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
   ::close(fd);
   return ntohs(a.sin_port);
+}
+
+// A client participant that reaches the server only over TCP, at 127.0.0.1:port.
+inline protocol::TransportOptions tcp_client_options(int domain, std::uint16_t port, const std::string& name) {
+  protocol::TransportOptions t{domain, true, name, std::nullopt};
+  t.tcp_server = protocol::TcpEndpoint{"127.0.0.1", port};
+  return t;
 }
 
 // One client on its own participant; records everything it receives.
