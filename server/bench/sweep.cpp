@@ -64,8 +64,8 @@ std::string plot(const std::vector<RunResult>& k_runs, const std::vector<RunResu
   cost.y_label = "median tick time per agent [us]";
   cost.log_x = true;
   cost.y_from_zero = true;
-  // one_cell is a note, not a point: at ~10x the uniform cost it would flatten the curve whose
-  // shape (flat = O(N)) is the point of this panel.
+  // one_cell is a note, not a point: its cost per agent comes from another regime (pile relief),
+  // and as a point it would distort the curve whose shape (flat = O(N)) is the point of this panel.
   cost.note = fmt::format("flat = linear scaling. one_cell (all start at one point), N={}: {:.3f} us/agent = {:.1f}x uniform",
                           one_cell.agents, one_cell.us_per_agent(), one_cell_ratio);
   Series uni{"crush (uniform disk)", "#1e8449", Marker::circle, true, {}};

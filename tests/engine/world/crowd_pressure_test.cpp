@@ -2,9 +2,8 @@
 // keeps pressing on one point, the pushes between neighbours grow towards the middle, like pressure
 // in a fluid. The fast pairs' warm start carries them whole along fixed normals
 // (kFastWarmStartCapOverRadius), so a few sweeps a tick keep the core apart. Cut at half a radius,
-// as the general pairs' warm start is, the core had to be rebuilt every tick and stayed deep:
-// crush 3,000 at K = 6 after 300 ticks, max / p99 penetration over r 0.31 / 0.17 (measured with
-// the cap at 0.5), against 0.06 / 0.03 carried.
+// as the general pairs' warm start is, the core had to be rebuilt every tick and stayed several
+// times deeper (figures: docs/design/solver.md).
 #include <gtest/gtest.h>
 
 #include <algorithm>

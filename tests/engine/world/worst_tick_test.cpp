@@ -2,8 +2,8 @@
 // full speed into the jam (blocked_motion_carry 0), measured after every tick. Bodies round the post
 // carry the crowd's pressure in their warm start; before each body's net warm-start move was cut
 // (kWarmStartMoveCapOverRadius) that guess alone threw bodies a metre, onto bodies the pair search
-// had seen apart, and single ticks showed two characters nearly on top of each other (3,000
-// bodies: 1.5 r at tick 150, four ticks over 0.5 r) while the last tick looked fine.
+// had seen apart, and single ticks showed two characters nearly on top of each other while the
+// last tick looked fine (figures: docs/design/solver.md).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -49,7 +49,7 @@ TEST(WorstTick, CrowdOnAPostStaysApartInEveryTick) {
 
 // 8,000 bodies: scaled further down, the ring of pillars closes to gaps narrower than a body, and
 // bodies spawned inside it are shut in pockets too small for them (an overlap no solver can undo,
-// as fixed bodies never move). Before the cut: 0.98 r at tick 115.
+// as fixed bodies never move).
 TEST(WorstTick, CrowdAmongPillarsStaysApartInEveryTick) {
   const Worst w = worst_tick(std::string(THRONG_SOURCE_DIR) + "/server/engine/data/scenes/crush_pillars.json", 8000, 160, 61);
   std::printf("crush_pillars 8,000, carry 0: worst tick %d max %.3f r, worst p99 %.3f r\n", w.tick, w.max_over_r, w.p99_over_r);

@@ -6,9 +6,9 @@
 // so bisecting on the sign of its derivative, using the exact point-to-shape closest point, finds
 // the core distance and witness points to rounding level in <= 80 cheap steps;
 // depth = radius - distance along the closest-point direction.
-// Not FCL's GJK: on segment-vs-box distances FCL's own GJK (GST_INDEP) was wrong in 0.74% of
-// random poses (errors up to 5 cm, whatever the tolerance), and libccd's GJK is up to 6 mm off at
-// a cylinder's rim at FCL's default tolerance (5e-7 m at 1e-14).
+// Not FCL's GJK: on segment-vs-box distances FCL's own GJK (GST_INDEP) is wrong in a fraction of
+// random poses whatever the tolerance, and libccd's GJK is off by millimetres at a cylinder's rim
+// at FCL's default tolerance (figures: docs/design/solver.md).
 //
 // Deep contact (the core touches or enters the shape): fcl::collide with libccd MPR, whose
 // push-out is valid but not necessarily the shortest (see the contact validation report). FCL's

@@ -12,7 +12,8 @@ namespace {
 
 // Hash combine with a full avalanche (murmur3's fmix64). Table slots are the low bits, and a bare
 // multiply leaves those depending only on the key's low bits — for a packed cell key, only on the
-// y coordinate — so a whole row of cells piled into one probe chain (3-5x slower at 100k bodies).
+// y coordinate — so a whole row of cells piled into one probe chain (several times slower in a
+// large crowd; docs/design/solver.md).
 std::uint64_t mix(std::uint64_t h, std::uint64_t v) {
   h ^= v + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
   h ^= h >> 33;

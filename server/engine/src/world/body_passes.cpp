@@ -5,9 +5,8 @@
 // a flag the source would not), and a loop with a branch does not vectorise. Nothing here reads
 // or sets floating-point flags, and the option changes no value: the kernels compute the scalar
 // formulas' bits (tests/engine/world/body_passes_test.cpp, and the golden state hash).
-// Measured (crush 20,000, K = 16, mean per kept tick): the move took 172 us as a scalar loop,
-// waiting on one division per body and reloading every column's address after each store, and
-// takes 63 us here.
+// As a scalar loop the move waited on one division per body and reloaded every column's address
+// after each store; as a vectorised pass it takes well under half the time (docs/design/solver.md).
 #include "world/body_passes.h"
 
 namespace throng::detail {

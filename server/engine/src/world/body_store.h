@@ -15,8 +15,8 @@ namespace throng::detail {
 
 // A pair's push last tick, kept by the body with the smaller id for the next tick's warm start.
 // The push is float: the crowd solve carries pushes in float anyway, and 8-byte entries make a
-// body's eight slots one 64-byte block: the lookup of every pair's entry was a cache miss, a
-// third of the pair setup at 20,000 bodies and nearly half of it at 100,000.
+// body's eight slots one 64-byte block: with larger entries the lookup of every pair's entry was a
+// cache miss, a large share of the pair setup in big crowds (docs/design/solver.md).
 struct WarmEntry {
   std::uint32_t partner;  // ObjectId value
   float lambda;

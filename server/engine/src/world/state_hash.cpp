@@ -34,9 +34,9 @@ std::uint64_t World::state_hash() const {
   // Warm-start pushes steer the next tick, so they are state too: each body's live entries
   // (partner, then lambda: 8 bytes with no padding), packed into one buffer and fed at once.
   // XXH3's streaming hash is that of the concatenated bytes, so this gives the value that feeding
-  // the fields one by one gave, which took two calls per entry (crush 20k: the hash took ~0.7 ms,
-  // every tick of a match). The buffer stays with the thread: a fresh one every call was a fresh
-  // mmap, its pages faulted in and zeroed.
+  // the fields one by one gave, which took two calls per entry and made the hash a noticeable part
+  // of every tick (docs/design/solver.md). The buffer stays with the thread: a fresh one every call
+  // was a fresh mmap, its pages faulted in and zeroed.
   static_assert(sizeof(detail::WarmEntry) == 8 && offsetof(detail::WarmEntry, lambda) == 4);
   thread_local std::vector<detail::WarmEntry> packed;
   packed.clear();

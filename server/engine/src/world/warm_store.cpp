@@ -1,10 +1,9 @@
 // On plain pointers, with the ids held as values: the cache's counts are bytes, and a store
 // through a byte pointer may alias anything, so in the lambda over the world's vectors this
 // replaced every count update made the compiler reload each vector's data pointer; the events
-// went through push_back. That saved only ~10 of ~290 us a tick (crush 20k, K = 16): the loop
-// waits on memory (a write into each owner's 64-byte block of the cache), not on instructions.
-// Walking the pairs in list (spatial) order instead of schedule order did not help either
-// (measured, dropped).
+// went through push_back. That saved little (docs/design/solver.md): the loop waits on memory (a
+// write into each owner's 64-byte block of the cache), not on instructions. Walking the pairs in
+// list (spatial) order instead of schedule order does not help either.
 #include "world/warm_store.h"
 
 #include "solver/contact_solver.h"
