@@ -1,6 +1,6 @@
 #pragma once
 // Saves the match log's world keyframes (Match::save_checkpoint) on a thread of its own, so the
-// save — 0.9 ms median, up to ~8 ms at 5,000 bodies with 50 clients' snapshot baselines — does not
+// save — milliseconds with many clients' snapshot baselines (docs/design/match-log.md) — does not
 // lengthen the tick it belongs to.
 //
 // Why this is safe: save_checkpoint is const, and between two tick() calls the match is only read

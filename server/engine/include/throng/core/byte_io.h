@@ -37,8 +37,9 @@ inline constexpr bool kPlainBytes = std::is_arithmetic_v<T> || std::has_unique_o
 //  - append (ByteWriter(out)): after out's current contents;
 //  - overwrite (ByteWriter(out, ByteWriter::kOverwrite)): from the start, without clearing first,
 //    and finish() cuts the buffer to what was written. Why: a cleared vector grown with resize()
-//    zero-fills every byte before it is written (a measured 13% of a 2.4 MB save); overwriting the
-//    previous checkpoint in place only zero-fills what exceeds the previous size.
+//    zero-fills every byte before it is written (a noticeable share of a checkpoint save,
+//    docs/design/match-log.md); overwriting the previous checkpoint in place only zero-fills what
+//    exceeds the previous size.
 // A warm buffer (capacity already reached) never allocates.
 class ByteWriter {
  public:

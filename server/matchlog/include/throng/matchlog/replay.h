@@ -27,9 +27,10 @@ struct ResimOptions {
   bool record_push_events = false;
   // false (default): replay with a 1 cm interest radius, the smallest snapshot budget and one
   // snapshot thread. The interest settings only shape snapshot content, which is not part of the
-  // state hash (server/match: match_snapshots.cpp is their only reader), and building 50 full
-  // snapshots is ~45% of a re-simulated tick at 5,000 bodies (the worker pool's hand-offs cost more
-  // than the 1 cm builds they would share). Keyframes are restored without their snapshot
+  // state hash (server/match: match_snapshots.cpp is their only reader), and building every
+  // client's full snapshots is a large part of a re-simulated tick (docs/design/match-log.md; the
+  // worker pool's hand-offs cost more than the 1 cm builds they would share). Keyframes are
+  // restored without their snapshot
   // baselines (match::SnapshotBaselines::reset: every state hash continues exactly; the snapshots
   // in the outbox are this replay's own, not the server's). Should the snapshots ever feed back
   // into the simulation, verify reports a mismatch (it can never pass falsely: the hash covers the

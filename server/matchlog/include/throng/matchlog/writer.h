@@ -24,10 +24,10 @@
 //   log.close();  // drains the queue, writes the final index and end record, fsyncs, joins the thread
 //                 // (throws LogError if a write/fsync failed during the match)
 //
-// append_tick() serialises the tick's inputs into a slot of a pre-allocated ring (~2 µs median,
-// ~20 µs p99 for 50 commands inside a 6,000-body match; no allocation once the slots have grown
-// to the busiest tick) and returns; it never wakes the writer thread (that measured 0.5 ms p99:
-// the woken writer preempted the tick). The writer thread (SCHED_BATCH) polls every poll_ms,
+// append_tick() serialises the tick's inputs into a slot of a pre-allocated ring (microseconds;
+// no allocation once the slots have grown to the busiest tick) and returns; it never wakes the
+// writer thread (the woken writer preempted the tick: docs/design/match-log.md). The writer
+// thread (SCHED_BATCH) polls every poll_ms,
 // groups ticks into blocks of block_ticks (aligned on tick numbers, so the file's content is a
 // function of the inputs only), compresses each block with zstd, frames it with a CRC32C, writes
 // it, and fdatasyncs at most fsync_interval_ms after a write.
@@ -144,7 +144,8 @@ class MatchLogWriter {
   // stats().keyframes_dropped (a missing keyframe only makes seeking slower; report it). The file
   // stays a function of the inputs: the keyframe is written right after the block ending at its tick.
   void append_keyframe(std::uint64_t tick, std::span<const std::uint8_t> checkpoint);
-  // The same without the copy (a 6,000-body checkpoint is ~4 MB: the copy took ~0.8 ms): the
+  // The same without the copy (a large match's checkpoint is megabytes; copying it on the tick
+  // thread costs a sizeable part of a tick: docs/design/match-log.md): the
   // checkpoint's buffer is swapped with the slot's, so on return `checkpoint` holds an older buffer
   // (contents unspecified, capacity kept) for the next save_checkpoint, which then does not
   // allocate either. O(1) on the tick thread. Dropped: `checkpoint` is left as it was.
