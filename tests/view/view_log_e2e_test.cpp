@@ -6,7 +6,7 @@
 // character with the re-simulated world's push ratios, and movement keys must send nothing.
 // Keeps a screenshot (overlay on) as
 // <build>/artifacts/view_log_e2e.png (THRONG_UPDATE_SCREENSHOT=1 also copies it to
-// docs/view_log_screenshot.png for the README).
+// docs/view_log_screenshot.png for client_sim/view/README.md).
 #include <gtest/gtest.h>
 #include <signal.h>
 
