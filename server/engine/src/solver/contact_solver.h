@@ -35,8 +35,8 @@ void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, cons
 // count and how many pairs start with a warm-start push (last tick's pushes, kept in checkpoints),
 // never of timing or of what an earlier tick in this process happened to see.
 // Speed: building the schedule costs about two sweeps' worth of time, and a crowd where most
-// candidate pairs are apart (battle: 5% pushing, street 20%) is faster in pair order, where a
-// separated pair is skipped in a few instructions; crush and mixed push in 77-82% of their pairs.
+// candidate pairs are apart (a battle's lines, a street) is faster in pair order, where a
+// separated pair is skipped in a few instructions; a crush pushes in most of its pairs.
 // Small scenes stay in the exact double-precision order (the patent examples are exact to 1e-12).
 inline constexpr std::size_t kMinScheduledPairs = 256;
 inline bool wants_schedule(std::size_t pair_count, std::size_t warm_pairs) {
@@ -60,7 +60,7 @@ void measure_start_depths(const SolverBodies& bodies, std::vector<SolverPair>& p
 
 // Fast pair f's depth at the start of a scheduled solve, read after it from the schedule (the start
 // distance is target - pen0) and the bodies' heights (grounded bodies never change height).
-// Inline: the warm-start store calls it for every pushing pair (as a call it was 3% of a tick).
+// Inline: the warm-start store calls it for every pushing pair (as a call it showed in profiles).
 inline double fast_pair_start_depth(const SolverBodies& bodies, const PairSchedule& schedule, std::uint32_t f) {
   return depth_at(bodies, schedule.a[f], schedule.b[f],
                   static_cast<double>(schedule.target[f]) - static_cast<double>(schedule.pen0[f]), 0.0);
@@ -69,7 +69,7 @@ inline double fast_pair_start_depth(const SolverBodies& bodies, const PairSchedu
 // Sweeps alternate direction (symmetric Gauss-Seidel): a sweep carries a push far along its own
 // order but only one contact against it, so alternating lets pressure travel both ways through a
 // packed crowd. (Cycling four row/column orders, as fast-sweeping eikonal solvers do, was measured
-// worse on the crush scene at 8 and 16 iterations: p99 0.115 vs 0.070 at K = 8.)
+// worse on the crush scene at 8 and 16 iterations: docs/design/solver.md.)
 // conflict_share_limit > 0 clamps the share of every push after a pair's first one in a tick into
 // [limit, 1 - limit] (see WorldSettings::conflict_share_limit); 0 keeps the exact share throughout.
 // Unscheduled, the sweeps visit the pairs in their own order, moving the double positions. Scheduled

@@ -8,10 +8,10 @@
 // separating plane (the patent's VP1 at the ratio point) turns with the pair between ticks, not
 // between projections, as in the contact solvers of rigid-body engines. Its penetration is then
 // linear in the displacements, pen = pen0 - n . (u_b - u_a), so a projection needs no square root
-// or division (the sweep went from ~55 to ~44 us at crush 20k, K = 16). More important, the warm
-// start becomes a plain sum of last tick's pushes along fixed directions, whatever order the pairs
-// are applied in, so it can carry the whole push: in a packed crowd the pushes grow towards the
-// middle like pressure in a fluid (crush 20k: up to 7 radii per pair in the core). Along directions
+// or division. More important, the warm start becomes a plain sum of last tick's pushes along fixed
+// directions, whatever order the pairs are applied in, so it can carry the whole push: in a packed
+// crowd the pushes grow towards the middle like pressure in a fluid (several radii per pair in the
+// core; figures in docs/design/solver.md). Along directions
 // re-taken after each push, warm pushes that large throw the bodies about (the warm start was cut
 // at 0.5 r for that reason), and the solve had to rebuild the core's pressure every tick in K
 // sweeps: most of the residual penetration sat there (see kFastWarmStartCapOverRadius).
@@ -21,9 +21,8 @@
 //
 // The four-lane path and the scalar path give the same bits (IEEE add, sub and mul are correctly
 // rounded in both, and there is no FMA), so which path a pair takes never changes the result. SSE
-// is part of baseline x86-64. An eight-lane AVX2 path behind run-time dispatch gained 1.7% (the
-// sweep is bound by the level-to-level dependency and the bodies' loads and stores) and was
-// dropped.
+// is part of baseline x86-64. An eight-lane AVX2 path behind run-time dispatch gained next to
+// nothing (the sweep is bound by the level-to-level dependency and the bodies' loads and stores).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>

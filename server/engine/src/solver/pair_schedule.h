@@ -31,14 +31,10 @@
 
 namespace throng::detail {
 
-// A few grid rows (~3 in the 100,000-body crush): levels stay wide enough for four SIMD lanes and
-// the out-of-order core, and the chunk's bodies stay in L2 while it is swept. Measured at 100,000
-// (thread CPU ms per tick, binaries alternated): 4,096 23.3-24.3, 1,024 24.0-24.3, broadphase
-// order (no schedule) 28.5-29.5; single readings at other times: 16,384 28, no chunks 31.1 (the
-// broadphase order 30.7 next to it). A chunk is also the band a sweep may leave out as calm
-// (kCalmPushOverRadius): with that, crush 20k at K = 16 takes 2.80-2.90 ms in chunks of 2,048,
-// 2.83-2.89 in 1,024 and 3.02-3.05 in 4,096 (the rim is cut more finely), and 100k at K = 8 is no
-// slower in 2,048 than in 4,096.
+// A few grid rows: levels stay wide enough for four SIMD lanes and the out-of-order core, and the
+// chunk's bodies stay in L2 while it is swept. A chunk is also the band a sweep may leave out as
+// calm (kCalmPushOverRadius), and smaller bands cut the calm rim more finely; 2,048 was the
+// fastest of the sizes measured (docs/design/solver.md, "The pair schedule and the caps").
 inline constexpr std::size_t kScheduleChunkPairs = 2048;
 
 // Warm-start pushes above this fraction of the smaller radius are cut back (see apply_warm_start
@@ -46,20 +42,15 @@ inline constexpr std::size_t kScheduleChunkPairs = 2048;
 // after every push.
 inline constexpr double kWarmStartCapOverRadius = 0.5;
 // The fast pairs' cap (fast_pair_kernel.h): their warm start is a sum along fixed normals and can
-// carry a packed crowd's pressure, which grows towards its middle (pushes per pair in the core
-// after a tick: crush 20k median 1.0-1.4 r, up to 7 r; 100k up to 8.6 r). Cut at 0.5 r the core
-// had to be rebuilt every tick (crush 20k K = 8, max / p99 penetration over r: 0.33 / 0.11 with
-// the previous solve). Measured, crush 20k K = 6 max / p99 and `mixed` K = 8 p99 over three end
-// ticks: cap 2: 0.32 / 0.031, 0.27-0.31; 4: 0.17 / 0.019, 0.26-0.29; 8: 0.07 / 0.021, 0.25-0.32;
-// 16 and 64: crush as at 8, `mixed` 0.30-0.48 and 0.39-0.67.
+// carry a packed crowd's pressure, which grows towards its middle (several radii per pair in the
+// core). Cut at 0.5 r the core had to be rebuilt every tick; 8 r carries the crush's core, and
+// larger caps only made `mixed` worse (docs/design/solver.md, "Warm start").
 inline constexpr double kFastWarmStartCapOverRadius = 8.0;
 // Only pairs that share their push carry it beyond the general cap: a pair whose share is outside
 // [kCarriedShareMin, 1 - kCarriedShareMin] moves one body by nearly all of its warm push, and a
 // heavy body's push carried into a tick whose geometry has moved on (`mixed`: giants and riders
-// among foot) shoves the light one past pairs the solve does not have. `mixed` K = 8 over five end
-// ticks, median max / mean p99 penetration over r: 1.69 / 0.302 with every fast pair at 8 r,
-// 0.69 / 0.296 with this (0.86 / 0.320 before the fixed normals); a crowd of one weight is
-// unaffected.
+// among foot) shoves the light one past pairs the solve does not have. It more than halves
+// `mixed`'s worst pair and leaves a crowd of one weight unaffected (docs/design/solver.md).
 inline constexpr double kCarriedShareMin = 0.25;
 
 // The warm start is a guess: last tick's pushes along this tick's normals. Where the pushes on a
@@ -70,9 +61,8 @@ inline constexpr double kCarriedShareMin = 0.25;
 // a tick were such unseen pairs, made in that tick (traced on crush with a post at its goal). So
 // a body's net warm-start move is cut to this fraction of its radius, comparable with the search's
 // contact margin; the pairs keep their pushes (lambda), so the sweeps can still give them back.
-// Measured on the crush family (worst tick after tick 60, max penetration over r, see
-// docs/benchmarks.md): at 0.05 a jam that steps its full speed rebuilds its pressure too slowly
-// (0.6); at 0.2 and 1.0 unseen pairs get through (0.3 and 0.5); 0.1 holds the family near 0.25.
+// Smaller, a jam that steps its full speed rebuilds its pressure too slowly; larger, unseen pairs
+// get through (the worst-tick figures per cap are in docs/design/solver.md).
 inline constexpr double kWarmStartMoveCapOverRadius = 0.1;
 
 // A fast pair's warm-start cap in metres, from its own share (double, as SolverPair::share_a) and
@@ -90,9 +80,9 @@ inline double fast_warm_cap(double share_a, double r_min) {
 // crush the pressure sits in the core; the crowd's rim settles after a sweep or two and its later
 // sweeps change next to nothing. Leaving a band out is exact only when it would have changed
 // nothing (tested with the threshold at the smallest float); at 1e-3 the crush scene's residual
-// after 16 iterations is as before (five end ticks: median max 0.130 -> 0.097, mean p99 0.044 ->
-// 0.043 over r) and 30% of the band sweeps are left out (figures in the README). `mixed` leaves
-// none out: its charging cavalry keeps every band busy. Bands left out are counted in StepStats.
+// is no worse and about a third of its band sweeps are left out (docs/design/solver.md). `mixed`
+// leaves none out: its charging cavalry keeps every band busy. Bands left out are counted in
+// StepStats.
 inline constexpr float kCalmPushOverRadius = 1e-3f;
 inline constexpr std::uint32_t kFullSweeps = 2;
 

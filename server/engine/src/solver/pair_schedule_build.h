@@ -1,8 +1,8 @@
 #pragma once
 // build_pair_schedule over any list of pairs: the world's SolverPair list, or the pairs a kept pair
 // list takes this tick (world_pair_list.cpp), which are read from the list itself instead of being
-// copied into SolverPairs first (the copy and the schedule's gather of it cost ~0.2 ms a tick at
-// 20,000 bodies). A Source provides size(), a(k), b(k), fast(bodies, k) (is_fast_pair) and
+// copied into SolverPairs first (the copy and the schedule's gather of it were a tenth of a kept
+// tick). A Source provides size(), a(k), b(k), fast(bodies, k) (is_fast_pair) and
 // slot(k, bodies, lo, hi) (what a fast pair's slot holds, from slot_fields or precomputed with the
 // same arithmetic); the schedule is the same whatever holds the pairs.
 #include <algorithm>
@@ -109,7 +109,7 @@ void build_pair_schedule_from(const SolverBodies& bodies, const Source& pairs, d
   // Which bands share a body with which, as an interval of band indices per band (a superset:
   // bands whose body ranges overlap). Bands of one crowd level touch c - 1 .. c + 1; the bands of
   // pairs with a larger body (listed after the finest level's pairs) span wide ranges. Bands x
-  // bands interval tests: ~4,000 at 100,000 bodies (65 bands), a few microseconds.
+  // bands interval tests: a crowd has tens of bands, so this is a few microseconds.
   const std::size_t band_count = s.band_count();
   s.band_wake_lo.resize(band_count);
   s.band_wake_hi.resize(band_count);

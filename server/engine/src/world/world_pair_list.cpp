@@ -1,8 +1,8 @@
 // The pair list kept across ticks: a Verlet list (WorldSettings::pair_list_skin_m).
 //
 // Why: in a crowd the candidate pairs change little from one tick to the next, yet searching them
-// every tick (grid sort, neighbour tests, a warm-start lookup per pair) cost about a third of the
-// tick (crush 20k). The list is searched within r_a + r_b + margin + skin. As long as no two
+// every tick (grid sort, neighbour tests, a warm-start lookup per pair) was a large share of a
+// crowd's tick. The list is searched within r_a + r_b + margin + skin. As long as no two
 // bodies have together moved more than the skin since that search, every pair closer than
 // r_a + r_b + margin is in it: such a pair was at most r_a + r_b + margin + (d_a + d_b) apart at the
 // search. Each tick then takes from the list the pairs the margin's own test accepts (the same test
@@ -10,8 +10,8 @@
 //
 // Order: a Gauss-Seidel sweep converges as well as its order lets pressure travel, so the list is
 // searched on the fine grid itself, two cells out (HierGrid::find_pairs), rather than on a grid
-// with cells as wide as the skin: that grid's order is coarser (crush 20k, K = 16, 1.2 m cells
-// instead of 0.8 m: p99 residual 0.071-0.087 instead of 0.037-0.049 over r). The two-cell search
+// with cells as wide as the skin: that grid's order is coarser, and the crush's p99 residual
+// nearly doubled on it (docs/design/solver.md). The two-cell search
 // lists the margin's pairs in exactly the order and orientation of the margin's own search
 // (tested), so the tick that searches a list computes the bits a plain search computes.
 //
@@ -230,7 +230,7 @@ void World::Impl::take_list_pairs() {
     // selected: the compiler made the select a branch, mispredicted as often as the test above is
     // random. Right after a search every entry starts at 0 here and the taken ones look their push
     // up in the cache below (looking up every entry, to keep this loop free of branches, cost a
-    // third more lookups: ~0.13 ms a search at 20,000 bodies).
+    // third more lookups).
     float lambda = kFresh ? 0.0f : l.lambda[e];
     std::uint32_t bits;
     std::memcpy(&bits, &lambda, 4);

@@ -284,7 +284,6 @@ void World::Impl::store_warm_start_and_events() {
 // Every few ticks the dense arrays are put into the broadphase's spatial order, so that the
 // gather/scatter between dense and solver order walks memory almost sequentially instead of
 // jumping at random (bodies spawned in random order would otherwise stay scattered forever).
-// Measured on crush N=20,000: see the README's benchmark table.
 void World::Impl::reorder_dense() {
   std::vector<std::uint32_t>& order = solver_order;
   if (order.size() != bodies.size()) return;  // bodies were created or destroyed since the solve

@@ -19,9 +19,8 @@ struct WorldSettings {
   // Each tick takes from it the pairs a search with the margin would find (every one of them is in
   // it, see world_pair_list.cpp), with last tick's pushes, in the order of that search. 0 = search
   // every tick. 0.3 since the crowd solve carries a jam's pressure (fast_pair_kernel.h): its core
-  // shuffles a little more, and crush 20k (K = 8) kept 0.2 m lists for 129 of 300 ticks at
-  // 2.10 ms a tick, 0.3 m for 209 at 1.50 ms, 0.4 m for 235 at 1.46 ms (one run each) with more
-  // pairs carried and, over twelve crowds, a worse worst case (README).
+  // shuffles a little more, so a thinner skin is outrun sooner, and a thicker one carries more
+  // pairs and did worse in the worst case over twelve crowds (docs/design/solver.md).
   // [0, 1] m
   double pair_list_skin_m = 0.3;
   // Early exit: stop iterating once no pair penetrates deeper than this fraction of the smaller
