@@ -13,6 +13,7 @@
 #include <boost/asio/steady_timer.hpp>
 #include <spdlog/spdlog.h>
 
+#include "throng/server/held_for.h"
 #include "throng/admin/admin_server.h"
 #include "throng/admin/metrics.h"
 #include "throng/match/match.h"
@@ -118,14 +119,15 @@ struct MatchServer::Impl {
   double view_error_max_m = 0.0;
   bool finished = false;
   std::unique_ptr<TickSchedule> schedule;
-  // Why the match ended (summary): duration, signal, empty, stopped. Set by whoever asks first.
+  // Why the match ended (summary): duration, signal, empty, routed, stopped. Set by whoever asks
+  // first.
   std::mutex end_mutex;
   std::string end_reason;
   // --end-when-empty: a first player joined; since when nobody is connected.
   bool ever_joined = false;
-  std::optional<Clock::time_point> empty_since;
+  HeldFor empty_for;
   // --end-when-routed: since when a side has been routed.
-  std::optional<Clock::time_point> routed_since;
+  HeldFor routed_for;
   AgonesProbe agones_probe;
   std::unique_ptr<AgonesSdk> agones;
 
@@ -241,39 +243,40 @@ void MatchServer::request_stop() { impl_->request_end("stopped"); }
 void MatchServer::Impl::check_routed(Clock::time_point now) {
   if (options.end_when_routed_s <= 0.0 || finished) return;
   const std::optional<std::uint8_t> routed = match.routed_faction();
-  if (!routed) {
-    if (routed_since) spdlog::info("no side is routed any more");
-    routed_since.reset();
-    return;
-  }
-  if (!routed_since) {
-    routed_since = now;
-    spdlog::info("faction {} is routed (every group retreating): the match ends in {} s unless it rallies", *routed,
-                 options.end_when_routed_s);
-    return;
-  }
-  if (seconds_between(*routed_since, now) >= options.end_when_routed_s) {
-    spdlog::info("faction {} routed for {} s: ending the match", *routed, options.end_when_routed_s);
-    request_end("routed");
+  switch (routed_for.update(routed.has_value(), now, options.end_when_routed_s)) {
+    case HeldFor::State::ended:
+      spdlog::info("no side is routed any more");
+      break;
+    case HeldFor::State::began:
+      spdlog::info("faction {} is routed (every group retreating): the match ends in {} s unless it rallies", *routed,
+                   options.end_when_routed_s);
+      break;
+    case HeldFor::State::elapsed:
+      spdlog::info("faction {} routed for {} s: ending the match", *routed, options.end_when_routed_s);
+      request_end("routed");
+      break;
+    case HeldFor::State::off:
+    case HeldFor::State::holding:
+      break;
   }
 }
 
 void MatchServer::Impl::check_empty(Clock::time_point now) {
   if (options.end_when_empty_s <= 0.0 || finished) return;
-  if (match.client_count() > 0) {
-    ever_joined = true;
-    empty_since.reset();
-    return;
-  }
-  if (!ever_joined) return;
-  if (!empty_since) {
-    empty_since = now;
-    spdlog::info("every player has left: the match ends in {} s unless one joins", options.end_when_empty_s);
-    return;
-  }
-  if (seconds_between(*empty_since, now) >= options.end_when_empty_s) {
-    spdlog::info("nobody connected for {} s: ending the match", options.end_when_empty_s);
-    request_end("empty");
+  const bool empty = match.client_count() == 0;
+  ever_joined = ever_joined || !empty;
+  switch (empty_for.update(ever_joined && empty, now, options.end_when_empty_s)) {
+    case HeldFor::State::began:
+      spdlog::info("every player has left: the match ends in {} s unless one joins", options.end_when_empty_s);
+      break;
+    case HeldFor::State::elapsed:
+      spdlog::info("nobody connected for {} s: ending the match", options.end_when_empty_s);
+      request_end("empty");
+      break;
+    case HeldFor::State::off:
+    case HeldFor::State::ended:
+    case HeldFor::State::holding:
+      break;
   }
 }
 

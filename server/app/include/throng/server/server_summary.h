@@ -40,7 +40,7 @@ struct SummaryInputs {
   std::string scene_name;
   std::uint64_t joins_foreign = 0;       // joins/leaves for another participant's client
   std::uint64_t param_not_operator = 0;  // parameter changes refused: not an operator
-  std::string end_reason{};              // duration, signal, empty, stopped
+  std::string end_reason{};              // duration, signal, empty, routed, stopped
 };
 
 nlohmann::json make_summary(const SummaryInputs& in);
