@@ -58,6 +58,30 @@ TEST_F(AdminServerTest, ReadyzFollowsTheCallback) {
   EXPECT_EQ(res->body(), "ready\n");
 }
 
+// A ready server that lost something (its match log) says so and stays ready (200): an
+// orchestrator must not pull a match its players are in; not ready wins over degraded.
+TEST_F(AdminServerTest, ReadyzSaysDegradedWithTheReasonWhileReady) {
+  std::atomic<bool> lost{false};
+  AdminServerOptions o;
+  o.degraded = [&] { return lost.load() ? std::string("match log stopped: No space left on device") : std::string(); };
+  AdminServer server(reg, check, o);
+  HttpTestClient client(server.port());
+  ready = true;
+  auto res = client.get("/readyz");
+  ASSERT_TRUE(res);
+  EXPECT_EQ(res->body(), "ready\n");
+  lost = true;
+  res = client.get("/readyz");
+  ASSERT_TRUE(res);
+  EXPECT_EQ(res->result(), http::status::ok);
+  EXPECT_EQ(res->body(), "degraded: match log stopped: No space left on device\n");
+  ready = false;
+  res = client.get("/readyz");
+  ASSERT_TRUE(res);
+  EXPECT_EQ(res->result(), http::status::service_unavailable);
+  EXPECT_EQ(res->body(), "not ready\n");
+}
+
 TEST_F(AdminServerTest, EmptyCallbackMeansReadyAndThrowingMeansNotReady) {
   {
     AdminServer server(reg, nullptr);

@@ -23,7 +23,7 @@ struct AdminServer::Impl {
   Impl(MetricsRegistry& registry, ReadinessCheck ready_check, AdminServerOptions opts)
       : ready(std::move(ready_check)),
         options(std::move(opts)),
-        config{Routes{registry, ready}, options.io_timeout, options.header_limit, options.body_limit} {}
+        config{Routes{registry, ready, &options.degraded}, options.io_timeout, options.header_limit, options.body_limit} {}
 
   void listen();
   void accept();

@@ -20,6 +20,15 @@ Response text(http::status status, const Request& req, std::string body, const c
   return res;
 }
 
+std::string degraded_reason(const std::function<std::string()>* degraded) {
+  if (degraded == nullptr || !*degraded) return {};
+  try {
+    return (*degraded)();
+  } catch (...) {
+    return {};
+  }
+}
+
 bool is_ready(const AdminServer::ReadinessCheck& ready) {
   if (!ready) return true;
   try {
@@ -46,8 +55,9 @@ Response Routes::handle(const Request& req) const {
   }
   if (path == "/healthz") return text(http::status::ok, req, "ok\n");
   if (path == "/readyz") {
-    return is_ready(ready) ? text(http::status::ok, req, "ready\n")
-                           : text(http::status::service_unavailable, req, "not ready\n");
+    if (!is_ready(ready)) return text(http::status::service_unavailable, req, "not ready\n");
+    const std::string why = degraded_reason(degraded);
+    return text(http::status::ok, req, why.empty() ? "ready\n" : "degraded: " + why + "\n");
   }
   return text(http::status::ok, req, registry.render(), metrics_content_type);
 }

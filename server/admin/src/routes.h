@@ -19,6 +19,7 @@ inline constexpr const char* metrics_content_type = "text/plain; version=0.0.4; 
 struct Routes {
   MetricsRegistry& registry;
   const AdminServer::ReadinessCheck& ready;
+  const std::function<std::string()>* degraded = nullptr;  // AdminServerOptions::degraded
 
   Response handle(const Request& req) const;
 };

@@ -1,5 +1,6 @@
 // throng-server: hosts one match. All the work is in MatchServer; main only parses, sets up
 // logging and turns exceptions into a clear message and a non-zero exit code.
+#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <string>
@@ -13,6 +14,9 @@
 #include "throng/server/server_options.h"
 
 int main(int argc, char** argv) {
+  // A file-size limit (ulimit -f) must end the match log like a full disk does, with a write error
+  // the server reports and survives, not kill the match with SIGXFSZ.
+  std::signal(SIGXFSZ, SIG_IGN);
   const std::vector<std::string> args(argv + 1, argv + argc);
   const auto parsed = throng::server::parse_server_options(args);
   if (!parsed.options) {

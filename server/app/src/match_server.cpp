@@ -93,6 +93,10 @@ struct MatchServer::Impl {
   std::unique_ptr<admin::AdminServer> admin;
   std::unique_ptr<matchlog::MatchLogWriter> log;  // null with --no-log
   std::uint64_t log_dropped_seen = 0, log_spilled_seen = 0, log_kf_dropped_seen = 0;
+  // The log's first write error: log_failure is written once, before log_failed is set, and read
+  // by the admin thread (/readyz degraded) only after it sees the flag.
+  std::string log_failure;
+  std::atomic<bool> log_failed{false};
   // World keyframes for the log: every keyframe interval the saver thread checkpoints the match
   // while the tick thread publishes and sleeps; the next tick (or shutdown) collects the bytes and
   // hands them to the writer (buffers swapped, not copied) before the match changes again.
@@ -151,6 +155,9 @@ struct MatchServer::Impl {
       admin::AdminServerOptions ao;
       ao.bind_address = o.admin_bind;
       ao.port = static_cast<std::uint16_t>(o.admin_port);
+      ao.degraded = [this] {
+        return log_failed.load(std::memory_order_acquire) ? "match log stopped: " + log_failure : std::string();
+      };
       admin = std::make_unique<admin::AdminServer>(registry, [this] { return ready.load(); }, ao);
     }
     if (!o.log_file.empty()) {
@@ -214,10 +221,19 @@ void MatchServer::Impl::check_log() {
   const matchlog::WriterStats s = log->stats();
   metrics.log_backlog_ticks.set(static_cast<double>(s.backlog_ticks));
   metrics.log_bytes.set(static_cast<double>(s.bytes_written));
+  if (!s.io_error.empty() && !log_failed.load(std::memory_order_relaxed)) {
+    // Once: the writer stops at its first error, so every later tick is dropped for the same cause.
+    log_failure = s.io_error;
+    log_failed.store(true, std::memory_order_release);
+    metrics.log_write_errors.inc();
+    spdlog::error("match log: {}; the match goes on without a log from here (the file verifies up to its last "
+                  "complete block)", s.io_error);
+  }
   if (s.ticks_dropped > log_dropped_seen) {
     metrics.log_ticks_dropped.inc(s.ticks_dropped - log_dropped_seen);
-    spdlog::error("match log: {} ticks dropped so far (disk too slow or I/O error: {}); the log has a gap", s.ticks_dropped,
-                  s.io_error.empty() ? "none" : s.io_error);
+    if (!log_failed.load(std::memory_order_relaxed)) {
+      spdlog::error("match log: {} ticks dropped so far (the disk is too slow); the log has a gap", s.ticks_dropped);
+    }
     log_dropped_seen = s.ticks_dropped;
   }
   if (s.keyframes_dropped > log_kf_dropped_seen) {
@@ -540,7 +556,9 @@ int MatchServer::run(bool handle_signals) {
                      m.keyframe_wait.quantile(0.99) * 1e3, m.keyframe_wait.max() * 1e3,
                      m.keyframe_append.quantile(0.99) * 1e3, m.keyframe_append.max() * 1e3);
     } catch (const std::exception& e) {
-      spdlog::error("match log: {}", e.what());
+      // A write error was reported when it happened (check_log); say it once, not again here.
+      if (m.log_failed.load()) spdlog::info("match log closed after its write error (reported above)");
+      else spdlog::error("match log: {}", e.what());
     }
   }
   if (m.agones) {

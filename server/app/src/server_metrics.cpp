@@ -49,7 +49,10 @@ ServerMetrics::ServerMetrics(admin::MetricsRegistry& r)
       log_bytes(r.gauge("throng_matchlog_bytes", "Size of the match log so far.")),
       log_ticks_dropped(r.counter("throng_matchlog_ticks_dropped_total", "Ticks the match log lost (disk too slow or I/O error).")),
       log_keyframes_dropped(r.counter("throng_matchlog_keyframes_dropped_total",
-                                      "World keyframes the match log skipped because its writer was behind (seeking gets slower).")) {
+                                      "World keyframes the match log skipped because its writer was behind (seeking gets slower).")),
+      log_write_errors(r.counter("throng_log_write_errors_total",
+                                 "Match log write or fsync errors (disk full, file too large, I/O error). The log stops "
+                                 "at the first; the match goes on and /readyz says degraded.")) {
   for (std::size_t i = 0; i < match::kRejectReasonCount; ++i)
     commands_rejected[i] = &r.counter("throng_commands_rejected_total", "Client commands rejected, by reason.",
                                       {{"reason", match::to_string(static_cast<match::RejectReason>(i))}});

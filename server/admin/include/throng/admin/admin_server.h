@@ -2,7 +2,8 @@
 // io_context, so a slow scraper or a stuck client can never delay the game tick.
 //
 //   GET /healthz  200 "ok\n"                while the process runs (liveness)
-//   GET /readyz   200 "ready\n" / 503 "not ready\n" from the readiness callback
+//   GET /readyz   200 "ready\n" / 503 "not ready\n" from the readiness callback, or 200
+//                 "degraded: REASON\n" while ready but options.degraded names a reason
 //   GET /metrics  200 registry.render(), Content-Type text/plain; version=0.0.4; charset=utf-8
 //   other path 404, other method 405, unparsable request 400, oversized header 431
 //
@@ -30,6 +31,11 @@ struct AdminServerOptions {
   std::size_t header_limit = 8 * 1024;  // bytes; larger request headers get 431
   std::size_t body_limit = 8 * 1024;    // bytes; GETs carry none, so anything big is abuse
   std::size_t max_connections = 64;     // further connections are closed at accept
+  // Called like the readiness check (admin thread, thread-safe, quick). A non-empty reason makes a
+  // ready server answer /readyz with 200 "degraded: REASON": it still serves its players (an
+  // orchestrator must not pull it) but has lost something an operator must see, such as its match
+  // log. Empty function or empty reason: not degraded; a throwing one counts as not degraded.
+  std::function<std::string()> degraded;
 };
 
 class AdminServer {

@@ -46,6 +46,7 @@ struct ServerMetrics {
   admin::Gauge& log_bytes;
   admin::Counter& log_ticks_dropped;
   admin::Counter& log_keyframes_dropped;
+  admin::Counter& log_write_errors;
 };
 
 }  // namespace throng::server
