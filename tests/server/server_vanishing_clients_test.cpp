@@ -1,0 +1,96 @@
+// Bots that vanish without leaving (kill -9 of their process, three times over): each time the
+// server times them out, hands their entities back to the AI, frees their seats and counts the
+// departures; the next bots take the same seats. What is lost: nothing the server holds; the
+// departed clients' sessions, by design.
+#include <csignal>
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <regex>
+#include <thread>
+
+#include "server_test_support.h"
+#include "support/child_process.h"
+
+namespace throng::test {
+namespace {
+
+using namespace std::chrono_literals;
+
+const std::string kServer = std::string(THRONG_BIN_DIR) + "/throng-server";
+const std::string kBots = std::string(THRONG_BIN_DIR) + "/throng-bots";
+
+std::string http_get(std::uint16_t port, const std::string& path) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(port);
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
+    ::close(fd);
+    return {};
+  }
+  const std::string req = "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
+  (void)!::write(fd, req.data(), req.size());
+  std::string out;
+  char buf[4096];
+  for (ssize_t n; (n = ::read(fd, buf, sizeof buf)) > 0;) out.append(buf, static_cast<std::size_t>(n));
+  ::close(fd);
+  return out;
+}
+
+// A metric's value in the Prometheus text, or -1 when absent.
+double metric(const std::string& text, const std::string& series) {
+  const std::size_t at = text.find("\n" + series + " ");
+  return at == std::string::npos ? -1.0 : std::stod(text.substr(at + series.size() + 2));
+}
+
+TEST(ServerVanishingClients, BotsKilledWithoutLeavingAreTimedOutAndTheirSeatsReused) {
+  TempDir dir("throng-vanish");
+  const auto summary = dir / "summary.json";
+  ChildProcess server(kServer,
+                      {"--scene", "battle", "--npcs", "300", "--domain", "194", "--admin-port", "0", "--max-clients",
+                       "8", "--client-timeout", "1", "--no-log", "--summary-json", summary.string(), "--log-level",
+                       "info"},
+                      dir / "out.txt", dir / "err.txt");
+  const std::regex admin_line("admin listening on 127\\.0\\.0\\.1:([0-9]+)");
+  std::uint16_t port = 0;
+  for (auto deadline = std::chrono::steady_clock::now() + 30s; port == 0 && std::chrono::steady_clock::now() < deadline;
+       std::this_thread::sleep_for(50ms)) {
+    std::smatch m;
+    const std::string err = read_file(dir / "err.txt");
+    if (std::regex_search(err, m, admin_line)) port = static_cast<std::uint16_t>(std::stoi(m[1]));
+  }
+  ASSERT_NE(port, 0) << read_file(dir / "err.txt");
+  auto wait_metric = [&](const std::string& series, double value) {
+    for (auto deadline = std::chrono::steady_clock::now() + 20s; std::chrono::steady_clock::now() < deadline;
+         std::this_thread::sleep_for(100ms)) {
+      if (metric(http_get(port, "/metrics"), series) == value) return true;
+    }
+    return false;
+  };
+  for (int round = 1; round <= 3; ++round) {
+    // All 8 seats, every round: a seat a vanished bot kept would refuse one of them.
+    ChildProcess bots(kBots, {"--clients", "8", "--duration", "60", "--domain", "194", "--seed", std::to_string(round),
+                              "-q"},
+                      dir / "bots.txt", dir / "bots.err");
+    ASSERT_TRUE(wait_metric("throng_clients", 8)) << "round " << round << ": " << read_file(dir / "bots.err");
+    bots.kill_now();  // SIGKILL: no leave message, the participant just stops
+    ASSERT_TRUE(wait_metric("throng_clients", 0)) << "round " << round << ": the vanished bots were not timed out";
+    EXPECT_TRUE(wait_metric("throng_client_departures_total{how=\"timed_out\"}", 8.0 * round)) << "round " << round;
+  }
+  server.signal(SIGTERM);
+  ASSERT_EQ(server.wait(30s), 0) << read_file(dir / "err.txt");
+  const auto j = nlohmann::json::parse(read_file(summary));
+  ASSERT_EQ(j["clients"].size(), 24u);
+  for (const auto& c : j["clients"]) EXPECT_EQ(c["departure"], "timed_out") << c.dump();
+}
+
+}  // namespace
+}  // namespace throng::test
