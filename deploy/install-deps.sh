@@ -20,6 +20,7 @@ PACKAGES=(
   libzstd-dev          # match-log tick blocks compressed with zstd
   openssl              # throng-pki: DDS Security certificates and signed governance/permissions
   iproute2 python3     # the hosting test: a match over TCP across network namespaces (ip netns), its report
+  curl                 # deploy/soak.sh reads the admin endpoint
 )
 
 if [ "$(id -u)" -ne 0 ]; then SUDO=sudo; else SUDO=; fi
