@@ -1,17 +1,17 @@
 #include "throng/scene/scene_def.h"
 
-#include "settings_fields.h"
+#include "world/settings_fields.h"
 
 namespace throng::scene {
 namespace {
 
 // WorldSettings has no operator==; compared over the fields a scene can set (settings_fields.h).
 bool settings_equal(const WorldSettings& a, const WorldSettings& b) {
-  for (const auto& f : detail::kSettingFields) {
+  for (const auto& f : throng::detail::kSettingFields) {
     switch (f.type) {
-      case detail::SettingField::Type::f64: if (a.*f.f64 != b.*f.f64) return false; break;
-      case detail::SettingField::Type::u32: if (a.*f.u32 != b.*f.u32) return false; break;
-      case detail::SettingField::Type::boolean: if (a.*f.boolean != b.*f.boolean) return false; break;
+      case throng::detail::SettingField::Type::f64: if (a.*f.f64 != b.*f.f64) return false; break;
+      case throng::detail::SettingField::Type::u32: if (a.*f.u32 != b.*f.u32) return false; break;
+      case throng::detail::SettingField::Type::boolean: if (a.*f.boolean != b.*f.boolean) return false; break;
     }
   }
   return true;

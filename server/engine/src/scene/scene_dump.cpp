@@ -3,7 +3,7 @@
 // makes "dump, reload, same state hash" hold.
 #include "kind_names.h"
 #include "pretty_json.h"
-#include "settings_fields.h"
+#include "world/settings_fields.h"
 #include "throng/scene/scene_json.h"
 
 namespace throng::scene {
@@ -21,11 +21,11 @@ Json source(const DocumentSource& s) {
 
 Json settings(const WorldSettings& s) {
   Json j = Json::object();
-  for (const auto& f : detail::kSettingFields) {
+  for (const auto& f : throng::detail::kSettingFields) {
     switch (f.type) {
-      case detail::SettingField::Type::f64: j[f.key] = s.*f.f64; break;
-      case detail::SettingField::Type::u32: j[f.key] = s.*f.u32; break;
-      case detail::SettingField::Type::boolean: j[f.key] = s.*f.boolean; break;
+      case throng::detail::SettingField::Type::f64: j[f.key] = s.*f.f64; break;
+      case throng::detail::SettingField::Type::u32: j[f.key] = s.*f.u32; break;
+      case throng::detail::SettingField::Type::boolean: j[f.key] = s.*f.boolean; break;
     }
   }
   return j;

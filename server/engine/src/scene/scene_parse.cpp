@@ -7,7 +7,7 @@
 
 #include "field_reader.h"
 #include "kind_names.h"
-#include "settings_fields.h"
+#include "world/settings_fields.h"
 #include "throng/core/object_id.h"
 #include "throng/params/object_params.h"
 #include "throng/scene/scene_error.h"
@@ -52,18 +52,18 @@ E read_kind(FieldReader& r, const std::array<std::pair<E, std::string_view>, N>&
 WorldSettings read_settings(const nlohmann::json& j, const std::string& path) {
   FieldReader r(j, path);
   WorldSettings s;  // defaults for absent keys
-  for (const auto& f : detail::kSettingFields) {
+  for (const auto& f : throng::detail::kSettingFields) {
     switch (f.type) {
-      case detail::SettingField::Type::f64:
+      case throng::detail::SettingField::Type::f64:
         s.*f.f64 = r.number(f.key, s.*f.f64, f.min, f.max);
         break;
-      case detail::SettingField::Type::u32: {
+      case throng::detail::SettingField::Type::u32: {
         const auto v = r.integer(f.key, s.*f.u32, static_cast<std::uint64_t>(f.max));
         if (static_cast<double>(v) < f.min) throw SceneError(r.path_of(f.key), "must be >= " + detail::format_number(f.min));
         s.*f.u32 = static_cast<std::uint32_t>(v);
         break;
       }
-      case detail::SettingField::Type::boolean:
+      case throng::detail::SettingField::Type::boolean:
         s.*f.boolean = r.boolean(f.key, s.*f.boolean);
         break;
     }

@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "world/settings_fields.h"
+
 namespace throng {
 namespace {
 void check(double v, double lo, double hi, const char* field) {
@@ -15,17 +17,14 @@ void check(double v, double lo, double hi, const char* field) {
 }  // namespace
 
 void WorldSettings::validate() const {
-  check(dt_s, 1e-4, 1.0, "dt_s");
-  check(iterations, 1, 256, "iterations");
-  check(contact_margin_m, 0.0, 10.0, "contact_margin_m");
-  check(pair_list_skin_m, 0.0, 1.0, "pair_list_skin_m");
-  check(converged_pen_over_radius, 0.0, 1.0, "converged_pen_over_radius");
-  check(blocked_motion_carry, 0.0, 0.99, "blocked_motion_carry");
-  check(conflict_share_limit, 0.0, 0.5, "conflict_share_limit");
-  check(max_candidates_per_body, 4, 4096, "max_candidates_per_body");
-  check(cell_size_m, 0.0, 1000.0, "cell_size_m");
-  check(morale_radius_m, 0.1, 1000.0, "morale_radius_m");
-  check(morale_refresh_ticks, 1, 3600, "morale_refresh_ticks");
+  // The ranges live in one table (settings_fields.h), which scene files are checked against too.
+  for (const detail::SettingField& f : detail::kSettingFields) {
+    switch (f.type) {
+      case detail::SettingField::Type::f64: check(this->*f.f64, f.min, f.max, f.key); break;
+      case detail::SettingField::Type::u32: check(static_cast<double>(this->*f.u32), f.min, f.max, f.key); break;
+      case detail::SettingField::Type::boolean: break;
+    }
+  }
 }
 
 }  // namespace throng

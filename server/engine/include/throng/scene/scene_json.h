@@ -13,7 +13,7 @@
 //   "ticks": 300,                      // default run length
 //   "seed": 1,                         // spawn placement RNG (mt19937_64; same seed = same scene)
 //   "settings": {                      // WorldSettings: same names, units and ranges; the list
-//                                      //   is src/scene/settings_fields.h
+//                                      //   is src/world/settings_fields.h
 //     "dt_s": 0.016666666666666666, "iterations": 8, "contact_margin_m": 0.05,
 //     "pair_list_skin_m": 0.1, "converged_pen_over_radius": 0.0001, "record_push_events": true, "warm_start": true,
 //     "blocked_motion_carry": 0.9, "max_candidates_per_body": 48, "cell_size_m": 0,

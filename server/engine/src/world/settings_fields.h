@@ -1,14 +1,13 @@
 #pragma once
-// The WorldSettings fields a scene file can set: one row each, used by the parser, the writer and
-// SceneDef::operator==, so a new setting is one line here (in world_settings.h order, with its
-// documented range). Ranges are re-checked by WorldSettings::validate(), the authority; ours only
-// give the error its exact JSON path.
+// The WorldSettings fields with their valid ranges, one row each: WorldSettings::validate() checks
+// them, and the scene parser, writer and SceneDef::operator== (a scene file can set each one)
+// read and write them. A new setting is one line here, in world_settings.h order.
 #include <array>
 #include <cstdint>
 
 #include "throng/world/world_settings.h"
 
-namespace throng::scene::detail {
+namespace throng::detail {
 
 struct SettingField {
   enum class Type : std::uint8_t { f64, u32, boolean };
@@ -47,4 +46,4 @@ inline constexpr std::array kSettingFields{
     whole("morale_refresh_ticks", &WorldSettings::morale_refresh_ticks, 1, 3600),
 };
 
-}  // namespace throng::scene::detail
+}  // namespace throng::detail
