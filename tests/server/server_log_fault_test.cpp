@@ -3,10 +3,6 @@
 // its end, the error is logged once with its cause and counted, /readyz says degraded, and the
 // log on disk verifies up to its last complete block. What is lost: the log from that write on,
 // nothing else.
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
-#include <unistd.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -25,25 +21,6 @@ namespace {
 using namespace std::chrono_literals;
 
 const std::string kServer = std::string(THRONG_BIN_DIR) + "/throng-server";
-
-std::string http_get(std::uint16_t port, const std::string& path) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_port = htons(port);
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
-    ::close(fd);
-    return {};
-  }
-  const std::string req = "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
-  (void)!::write(fd, req.data(), req.size());
-  std::string out;
-  char buf[4096];
-  for (ssize_t n; (n = ::read(fd, buf, sizeof buf)) > 0;) out.append(buf, static_cast<std::size_t>(n));
-  ::close(fd);
-  return out;
-}
 
 std::size_t count_of(const std::string& text, const std::string& what) {
   std::size_t n = 0;
@@ -64,19 +41,13 @@ TEST(ServerLogFault, AFullDiskEndsTheLogNotTheMatch) {
                        "197", "--admin-port", "0", "--duration", "8", "--log", log.string(), "--summary-json",
                        summary.string(), "--log-level", "info"},
                       dir / "out.txt", dir / "err.txt");
-  // The admin port (ephemeral) and the log's failure, as the server reports them on stderr.
-  const std::regex admin_line("admin listening on 127\\.0\\.0\\.1:([0-9]+)");
-  std::uint16_t port = 0;
-  bool failed = false;
-  for (auto deadline = std::chrono::steady_clock::now() + 30s; std::chrono::steady_clock::now() < deadline;) {
-    const std::string err = read_file(dir / "err.txt");
-    std::smatch m;
-    if (port == 0 && std::regex_search(err, m, admin_line)) port = static_cast<std::uint16_t>(std::stoi(m[1]));
-    failed = err.find("the match goes on without a log") != std::string::npos;
-    if (port != 0 && failed) break;
-    std::this_thread::sleep_for(50ms);
-  }
+  const std::uint16_t port = wait_for_admin_port(dir / "err.txt");
   ASSERT_NE(port, 0) << read_file(dir / "err.txt");
+  bool failed = false;
+  for (auto deadline = std::chrono::steady_clock::now() + 30s; !failed && std::chrono::steady_clock::now() < deadline;
+       std::this_thread::sleep_for(50ms)) {
+    failed = read_file(dir / "err.txt").find("the match goes on without a log") != std::string::npos;
+  }
   ASSERT_TRUE(failed) << "the log never reported its write error: " << read_file(dir / "err.txt");
   const std::string ready = http_get(port, "/readyz");
   EXPECT_NE(ready.find("200 OK"), std::string::npos) << ready;

@@ -60,25 +60,6 @@ TEST(ServerProcess, SigtermEndsTheMatchGracefully) {
   EXPECT_NE(read_file(dir / "seek.txt").find("from the keyframe of tick 60"), std::string::npos) << read_file(dir / "seek.txt");
 }
 
-std::string http_get(std::uint16_t port, const std::string& path) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_port = htons(port);
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
-    ::close(fd);
-    return {};
-  }
-  const std::string req = "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
-  (void)!::write(fd, req.data(), req.size());
-  std::string out;
-  char buf[4096];
-  for (ssize_t n; (n = ::read(fd, buf, sizeof buf)) > 0;) out.append(buf, static_cast<std::size_t>(n));
-  ::close(fd);
-  return out;
-}
-
 // --log-format json: every stderr line is one JSON object naming the match (log collectors index
 // them); the text format names it too. The match log lands in --log-dir under the match id.
 TEST(ServerProcess, EveryLogLineNamesTheMatchInJsonOrText) {

@@ -1,6 +1,7 @@
 #pragma once
 // In-process server + DDS test client for the integration tests. Everything waits on condition
 // variables with a deadline, so a broken server fails a test in seconds instead of hanging ctest.
+#include <arpa/inet.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -9,9 +10,11 @@
 #include <chrono>
 #include <condition_variable>
 #include <deque>
+#include <filesystem>
 #include <functional>
 #include <mutex>
 #include <optional>
+#include <regex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -19,13 +22,47 @@
 #include "throng/protocol/codec.h"
 #include "throng/protocol/dds_transport.h"
 #include "throng/server/match_server.h"
+#include "support/child_process.h"
 
 namespace throng::test {
 
 using namespace std::chrono_literals;
 
-// Each test passes its own domain id (140..169 belong to tests/server) so parallel ctest runs
-// never see each other's participants.
+// Each test passes its own domain id (140..169 and 194..199 belong to tests/server) so parallel
+// ctest runs never see each other's participants.
+// One HTTP/1.1 GET to 127.0.0.1:port; the raw response ("" when nothing listens).
+inline std::string http_get(std::uint16_t port, const std::string& path) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(port);
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
+    ::close(fd);
+    return {};
+  }
+  const std::string req = "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
+  (void)!::write(fd, req.data(), req.size());
+  std::string out;
+  char buf[4096];
+  for (ssize_t n; (n = ::read(fd, buf, sizeof buf)) > 0;) out.append(buf, static_cast<std::size_t>(n));
+  ::close(fd);
+  return out;
+}
+
+// The admin port a throng-server process started with --admin-port 0 reports on stderr (written
+// to `err`), once it does; 0 if it has not within the timeout.
+inline std::uint16_t wait_for_admin_port(const std::filesystem::path& err, std::chrono::milliseconds timeout = 30s) {
+  const std::regex line("admin listening on 127\\.0\\.0\\.1:([0-9]+)");
+  for (auto deadline = std::chrono::steady_clock::now() + timeout; std::chrono::steady_clock::now() < deadline;
+       std::this_thread::sleep_for(50ms)) {
+    std::smatch m;
+    const std::string text = read_file(err);
+    if (std::regex_search(text, m, line)) return static_cast<std::uint16_t>(std::stoi(m[1]));
+  }
+  return 0;
+}
+
 inline server::ServerOptions small_server_options(int domain) {
   server::ServerOptions o;
   o.scene = "battle";

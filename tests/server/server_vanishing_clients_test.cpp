@@ -4,10 +4,6 @@
 // departed clients' sessions, by design.
 #include <csignal>
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
-#include <unistd.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -26,25 +22,6 @@ using namespace std::chrono_literals;
 const std::string kServer = std::string(THRONG_BIN_DIR) + "/throng-server";
 const std::string kBots = std::string(THRONG_BIN_DIR) + "/throng-bots";
 
-std::string http_get(std::uint16_t port, const std::string& path) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_port = htons(port);
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
-    ::close(fd);
-    return {};
-  }
-  const std::string req = "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
-  (void)!::write(fd, req.data(), req.size());
-  std::string out;
-  char buf[4096];
-  for (ssize_t n; (n = ::read(fd, buf, sizeof buf)) > 0;) out.append(buf, static_cast<std::size_t>(n));
-  ::close(fd);
-  return out;
-}
-
 // A metric's value in the Prometheus text, or -1 when absent.
 double metric(const std::string& text, const std::string& series) {
   const std::size_t at = text.find("\n" + series + " ");
@@ -59,14 +36,7 @@ TEST(ServerVanishingClients, BotsKilledWithoutLeavingAreTimedOutAndTheirSeatsReu
                        "8", "--client-timeout", "1", "--no-log", "--summary-json", summary.string(), "--log-level",
                        "info"},
                       dir / "out.txt", dir / "err.txt");
-  const std::regex admin_line("admin listening on 127\\.0\\.0\\.1:([0-9]+)");
-  std::uint16_t port = 0;
-  for (auto deadline = std::chrono::steady_clock::now() + 30s; port == 0 && std::chrono::steady_clock::now() < deadline;
-       std::this_thread::sleep_for(50ms)) {
-    std::smatch m;
-    const std::string err = read_file(dir / "err.txt");
-    if (std::regex_search(err, m, admin_line)) port = static_cast<std::uint16_t>(std::stoi(m[1]));
-  }
+  const std::uint16_t port = wait_for_admin_port(dir / "err.txt");
   ASSERT_NE(port, 0) << read_file(dir / "err.txt");
   auto wait_metric = [&](const std::string& series, double value) {
     for (auto deadline = std::chrono::steady_clock::now() + 20s; std::chrono::steady_clock::now() < deadline;
