@@ -20,6 +20,7 @@ PACKAGES=(
   libzstd-dev          # match-log tick blocks compressed with zstd
   openssl              # throng-pki: DDS Security certificates and signed governance/permissions
   iproute2 python3     # the hosting test: a match over TCP across network namespaces (ip netns), its report
+  clang-14 libclang-rt-14-dev  # deploy/fuzz.sh: libFuzzer (libclang_rt.fuzzer) and clang's ASan/UBSan runtimes
 )
 
 if [ "$(id -u)" -ne 0 ]; then SUDO=sudo; else SUDO=; fi
