@@ -407,9 +407,10 @@ TEST_F(MatchCheckpointErrors, AiDrivingAnotherBodyIsRefused) {
   target.tick(out);
 }
 
-// Found by fuzzing (tests/fuzz match_checkpoint): a client record whose kept NPC character type was
-// 1.002 was accepted, and the client's timeout then threw from World::set_param (release()).
-TEST(MatchCheckpointClients, InvalidKeptNpcParametersAreRefused) {
+// Found by fuzzing (tests/fuzz match_checkpoint): client records that disagree with the rest of the
+// checkpoint were accepted and the next tick crashed or threw. First: a kept NPC character type of
+// 1.002 (the client's timeout then threw from World::set_param in release()).
+TEST(MatchCheckpointClients, InconsistentClientRecordsAreRefused) {
   const scene::SceneDef def = test::two_armies(4);
   Match m(def, test::small_config(), "m");
   Outbox out;
@@ -456,6 +457,26 @@ TEST(MatchCheckpointClients, InvalidKeptNpcParametersAreRefused) {
     try {
       target.restore_checkpoint(bad);
       ADD_FAILURE() << "accepted client 1 with entity " << other;
+    } catch (const CheckpointError& e) {
+      EXPECT_NE(std::string(e.what()).find("controlled by client 1, which does not control it"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(target.tick_index(), 0u);
+  }
+  // The client marked not connected (its record: entity, faction, then the connected flag): its
+  // snapshot baselines are then a stranger's, and without them the body it controls is (found by
+  // fuzzing: the builder and the clients disagreed and the next tick threw).
+  {
+    Bytes bad = saved;
+    bad[static_cast<std::size_t>(&*rec - saved.data()) + partition.size() + 5] = 0;
+    try {
+      target.restore_checkpoint(bad);
+      ADD_FAILURE() << "accepted baselines of a client that is not connected";
+    } catch (const CheckpointError& e) {
+      EXPECT_NE(std::string(e.what()).find("snapshot baselines of clients that are not connected"), std::string::npos) << e.what();
+    }
+    try {
+      target.restore_checkpoint(bad, RestoreOptions{SnapshotBaselines::reset});
+      ADD_FAILURE() << "accepted a body controlled by a client that is not connected";
     } catch (const CheckpointError& e) {
       EXPECT_NE(std::string(e.what()).find("controlled by client 1, which does not control it"), std::string::npos) << e.what();
     }

@@ -341,6 +341,15 @@ void restore_match(Impl& m, std::span<const std::uint8_t> bytes, RestoreOptions 
     // (interest_grid.cpp): anything beyond twice that is corrupt.
     staged_snapshots.restore_state(snap, std::max<std::size_t>(1024, 2 * m.dense_of_slot.size()));
     if (snap.remaining() != 0) snap.fail(std::to_string(snap.remaining()) + " bytes after the end of the checkpoint");
+    // The builder serves exactly the connected clients (found by fuzzing: a connected client without
+    // baselines made the next tick throw from SnapshotBuilder::build).
+    std::uint32_t connected = 0;
+    for (const ClientRecord& c : records) {
+      if (!c.connected) continue;
+      ++connected;
+      if (!staged_snapshots.has_client(c.id)) snap.fail("connected client " + std::to_string(c.id) + " has no snapshot baselines");
+    }
+    if (staged_snapshots.client_count() != connected) snap.fail("snapshot baselines of clients that are not connected");
   } else {
     // As at each client's join (take_over): the builder knows exactly the connected clients.
     for (const ClientRecord& c : records) {
