@@ -21,6 +21,7 @@ PACKAGES=(
   openssl              # throng-pki: DDS Security certificates and signed governance/permissions
   iproute2 python3     # the hosting test: a match over TCP across network namespaces (ip netns), its report
   curl                 # deploy/soak.sh reads the admin endpoint
+  clang-14 libclang-rt-14-dev  # deploy/fuzz.sh: libFuzzer (libclang_rt.fuzzer) and clang's ASan/UBSan runtimes
 )
 
 if [ "$(id -u)" -ne 0 ]; then SUDO=sudo; else SUDO=; fi

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The README's test command: installs dependencies, builds from scratch, runs every test.
 #   1. Release build (the one benchmarks use) + all tests.
-#   2. ASan+UBSan build + all tests (skipped with THRONG_SKIP_SANITIZE=1).
+#   2. Fuzz: every libFuzzer target for 10 s (deploy/fuzz.sh; skipped with THRONG_SKIP_FUZZ=1).
+#   3. ASan+UBSan build + all tests (skipped with THRONG_SKIP_SANITIZE=1).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash deploy/install-deps.sh
@@ -18,6 +19,10 @@ run_suite() {  # $1 = build dir, rest = extra cmake args
 }
 
 run_suite build/release -DCMAKE_BUILD_TYPE=Release
+if [ "${THRONG_SKIP_FUZZ:-0}" != "1" ]; then
+  echo "=== fuzz build/fuzz"
+  JOBS=$JOBS bash deploy/fuzz.sh 10
+fi
 if [ "${THRONG_SKIP_SANITIZE:-0}" != "1" ]; then
   # new_delete_type_mismatch=0: Fast DDS 2.9.1 deletes a statistics writer through the wrong type when a
   # participant is destroyed (inside the library, not our code); every DDS test would abort on it.

@@ -16,6 +16,22 @@ if(THRONG_SANITIZE)
   list(APPEND THRONG_WARNINGS -Wno-maybe-uninitialized)
 endif()
 
+# THRONG_FUZZ: every library is instrumented for libFuzzer's coverage (fuzzer-no-link) plus ASan and
+# UBSan; the fuzz targets themselves link with -fsanitize=fuzzer (tests/fuzz/CMakeLists.txt). -O1
+# and assertions on (deploy/fuzz.sh configures CMAKE_BUILD_TYPE=Fuzz, which adds no flags): fast
+# enough to fuzz, and an assert that fires is a finding. Line tables only: enough for the
+# sanitizers' stack traces, and much cheaper to compile than full debug information.
+if(THRONG_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+    message(FATAL_ERROR "THRONG_FUZZ needs clang (libFuzzer), e.g. -DCMAKE_CXX_COMPILER=clang++-14")
+  endif()
+  if(THRONG_SANITIZE)
+    message(FATAL_ERROR "THRONG_FUZZ sets its own sanitizers; leave THRONG_SANITIZE empty")
+  endif()
+  set(THRONG_SANITIZE_FLAGS -fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer
+                            -fno-sanitize-recover=all -O1 -gline-tables-only)
+endif()
+
 function(throng_target_defaults target)
   target_compile_options(${target} PRIVATE ${THRONG_WARNINGS} ${THRONG_FP_FLAGS} ${THRONG_SANITIZE_FLAGS})
   target_compile_features(${target} PUBLIC cxx_std_20)

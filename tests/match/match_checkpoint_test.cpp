@@ -7,16 +7,19 @@
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <random>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "match_test_util.h"
 #include "matchlog/checkpoint_v1.h"
 #include "throng/match/checkpoint_diff.h"
 #include "throng/match/match.h"
+#include "throng/params/object_params.h"
 #include "throng/scene/builtin_scenes.h"
 #include "throng/scene/scale.h"
 #include "throng/world/world.h"
@@ -374,6 +377,114 @@ TEST_F(MatchCheckpointErrors, CorruptedBytesFailCleanly) {
   Bytes bad = saved;
   for (std::size_t k = 0; k < 4; ++k) bad[32 + k] = 0xFF;  // body count
   expect_error(target, bad, "bodies");
+}
+
+// Found by fuzzing (tests/fuzz match_checkpoint): an NPC AI section naming a body the world
+// section does not hold was accepted, and the next tick threw from World::set_desired_velocity.
+TEST_F(MatchCheckpointErrors, AiDrivingAnotherBodyIsRefused) {
+  // The AI's ids: a u32 count then every body's id (here in the world's dense order), in the match
+  // section (the world section holds the same list: search only the match section).
+  const World& w = source.world();
+  std::vector<std::uint8_t> pattern(4 + 4 * w.body_count());
+  const auto n = static_cast<std::uint32_t>(w.body_count());
+  std::memcpy(pattern.data(), &n, 4);
+  for (std::size_t d = 0; d < w.body_count(); ++d) {
+    const std::uint32_t v = w.id_at(d).value;
+    std::memcpy(pattern.data() + 4 + 4 * d, &v, 4);
+  }
+  const CheckpointSections sec = checkpoint_sections(saved);
+  const auto at = std::search(sec.match_state.begin(), sec.match_state.end(), pattern.begin(), pattern.end());
+  ASSERT_NE(at, sec.match_state.end()) << "the AI's id list was not found";
+  const std::size_t offset = static_cast<std::size_t>(&*at - saved.data()) + 4;  // the first id
+  Bytes bad = saved;
+  const std::uint32_t stranger = 0xFFFFFFF0u;
+  std::memcpy(&bad[offset], &stranger, 4);
+  expect_error(target, bad, "NPC AI drives other bodies than its world section holds");
+  expect_error(target, bad, "NPC AI drives other bodies", RestoreOptions{SnapshotBaselines::reset});
+  // Still usable afterwards, and the real checkpoint still restores and ticks.
+  target.restore_checkpoint(saved);
+  Outbox out;
+  target.tick(out);
+}
+
+// Found by fuzzing (tests/fuzz match_checkpoint): client records that disagree with the rest of the
+// checkpoint were accepted and the next tick crashed or threw. First: a kept NPC character type of
+// 1.002 (the client's timeout then threw from World::set_param in release()).
+TEST(MatchCheckpointClients, InconsistentClientRecordsAreRefused) {
+  const scene::SceneDef def = test::two_armies(4);
+  Match m(def, test::small_config(), "m");
+  Outbox out;
+  m.inputs().push(test::join_request(1));
+  m.tick(out);
+  ASSERT_EQ(out.join_replies.size(), 1u);
+  const ObjectId entity{out.join_replies[0].entity};
+  // The NPC's own values, which the client record keeps for release(): read from an untouched twin.
+  Match twin(def, test::small_config(), "twin");
+  const params::ObjectParams& p = twin.world().params(entity);
+  const double kept[3] = {p.get(params::Param::character_type), p.importance, p.weight_kg};
+  Bytes saved;
+  m.save_checkpoint(saved);
+  const CheckpointSections sec = checkpoint_sections(saved);
+  const auto* k = reinterpret_cast<const std::uint8_t*>(kept);
+  const auto at = std::search(sec.match_state.begin(), sec.match_state.end(), k, k + sizeof(kept));
+  ASSERT_NE(at, sec.match_state.end()) << "the client's kept NPC values were not found";
+  const std::size_t offset = static_cast<std::size_t>(&*at - saved.data());
+  Match target(def, test::small_config(), "t");
+  for (const auto& [field, value, needle] : {std::tuple{0, 1.001953125, "character_type"}, std::tuple{1, -1.0, "importance"},
+                                             std::tuple{2, std::numeric_limits<double>::quiet_NaN(), "weight_kg"}}) {
+    Bytes bad = saved;
+    std::memcpy(&bad[offset + 8 * static_cast<std::size_t>(field)], &value, 8);
+    try {
+      target.restore_checkpoint(bad);
+      ADD_FAILURE() << "accepted a kept " << needle << " of " << value;
+    } catch (const CheckpointError& e) {
+      EXPECT_NE(std::string(e.what()).find(std::string("client 1: ") + needle), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(target.tick_index(), 0u);  // unchanged
+  }
+  // A connected client whose entity is another body than the one it controls (found by fuzzing:
+  // with an entity the world does not hold, the next snapshot read outside the position arrays).
+  // Its record: ... partition string, then the entity id.
+  const std::string& partition = out.join_replies[0].snapshot_partition;
+  std::vector<std::uint8_t> pattern(partition.begin(), partition.end());
+  const std::uint32_t ev = entity.value;
+  pattern.insert(pattern.end(), reinterpret_cast<const std::uint8_t*>(&ev), reinterpret_cast<const std::uint8_t*>(&ev) + 4);
+  const auto rec = std::search(sec.match_state.begin(), sec.match_state.end(), pattern.begin(), pattern.end());
+  ASSERT_NE(rec, sec.match_state.end()) << "the client's record was not found";
+  for (const std::uint32_t other : {m.world().id_at(m.world().id_at(0) == entity ? 1 : 0).value, 0xFFFFFFF0u}) {
+    Bytes bad = saved;
+    std::memcpy(&bad[static_cast<std::size_t>(&*rec - saved.data()) + partition.size()], &other, 4);
+    try {
+      target.restore_checkpoint(bad);
+      ADD_FAILURE() << "accepted client 1 with entity " << other;
+    } catch (const CheckpointError& e) {
+      EXPECT_NE(std::string(e.what()).find("controlled by client 1, which does not control it"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(target.tick_index(), 0u);
+  }
+  // The client marked not connected (its record: entity, faction, then the connected flag): its
+  // snapshot baselines are then a stranger's, and without them the body it controls is (found by
+  // fuzzing: the builder and the clients disagreed and the next tick threw).
+  {
+    Bytes bad = saved;
+    bad[static_cast<std::size_t>(&*rec - saved.data()) + partition.size() + 5] = 0;
+    try {
+      target.restore_checkpoint(bad);
+      ADD_FAILURE() << "accepted baselines of a client that is not connected";
+    } catch (const CheckpointError& e) {
+      EXPECT_NE(std::string(e.what()).find("snapshot baselines of clients that are not connected"), std::string::npos) << e.what();
+    }
+    try {
+      target.restore_checkpoint(bad, RestoreOptions{SnapshotBaselines::reset});
+      ADD_FAILURE() << "accepted a body controlled by a client that is not connected";
+    } catch (const CheckpointError& e) {
+      EXPECT_NE(std::string(e.what()).find("controlled by client 1, which does not control it"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(target.tick_index(), 0u);
+  }
+  target.restore_checkpoint(saved);
+  EXPECT_EQ(target.state_hash(), m.state_hash());
+  target.tick(out);
 }
 
 TEST_F(MatchCheckpointErrors, OtherSceneOrConfig) {

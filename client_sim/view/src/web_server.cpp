@@ -6,8 +6,6 @@
 #include <atomic>
 #include <cstdio>
 #include <deque>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 #include <thread>
 #include <vector>
@@ -20,6 +18,8 @@
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
 
+#include "web_routes.h"
+
 namespace throng::view {
 
 namespace asio = boost::asio;
@@ -28,26 +28,7 @@ namespace http = beast::http;
 namespace websocket = beast::websocket;
 using tcp = asio::ip::tcp;
 
-const char* content_type_for(std::string_view name) {
-  auto ends = [&](std::string_view ext) { return name.size() >= ext.size() && name.substr(name.size() - ext.size()) == ext; };
-  if (ends(".html")) return "text/html; charset=utf-8";
-  if (ends(".js")) return "text/javascript; charset=utf-8";
-  if (ends(".css")) return "text/css; charset=utf-8";
-  if (ends(".png")) return "image/png";
-  if (ends(".svg")) return "image/svg+xml";
-  if (ends(".json")) return "application/json";
-  if (ends(".ico")) return "image/x-icon";
-  return "application/octet-stream";
-}
-
 namespace {
-
-bool flat_name(std::string_view n) {
-  if (n.empty() || n.front() == '.') return false;
-  return std::all_of(n.begin(), n.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '.' || c == '_' || c == '-';
-  });
-}
 
 std::string endpoint_text(const std::string& address, std::uint16_t port) {
   const bool v6 = address.find(':') != std::string::npos;
@@ -202,16 +183,14 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
 
   void read() {
     parser_.emplace();
-    parser_->header_limit(8 * 1024);
-    parser_->body_limit(4 * 1024);
+    parser_->header_limit(kHttpHeaderLimit);
+    parser_->body_limit(kHttpBodyLimit);
     stream_.expires_after(server_.options.http_timeout);
     http::async_read(stream_, buffer_, *parser_,
                      [self = shared_from_this()](beast::error_code ec, std::size_t) { self->on_read(ec); });
   }
 
  private:
-  using Response = http::response<http::string_body>;
-
   void on_read(beast::error_code ec) {
     if (ec == http::error::end_of_stream) return close();
     if (ec) {
@@ -220,85 +199,12 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       return;  // timeout, reset, stop()
     }
     auto req = parser_->release();
-    if (websocket::is_upgrade(req)) {
-      if (path_of(req.target()) != "/ws") return write(text_response(http::status::not_found, "not found\n", req.version(), false));
-      if (!same_origin(req)) return write(text_response(http::status::forbidden, "cross-origin WebSocket refused\n", req.version(), false));
-      stream_.expires_never();
-      std::make_shared<WsSession>(stream_.release_socket(), server_)->start(std::move(req));
-      return;
-    }
-    write(handle(req));
+    if (auto res = route_request(req, server_.options.web_root)) return write(std::move(*res));
+    stream_.expires_never();  // an accepted WebSocket upgrade
+    std::make_shared<WsSession>(stream_.release_socket(), server_)->start(std::move(req));
   }
 
-  static std::string_view path_of(beast::string_view target) {
-    std::string_view t(target.data(), target.size());
-    return t.substr(0, t.find_first_of("?#"));
-  }
-
-  // Browsers send Origin on every WebSocket handshake; tools (tests, curl) usually do not.
-  static bool same_origin(const http::request<http::string_body>& req) {
-    const auto origin = req.find(http::field::origin);
-    if (origin == req.end()) return true;
-    const auto host = req.find(http::field::host);
-    if (host == req.end()) return false;
-    return std::string_view(origin->value().data(), origin->value().size()) ==
-           "http://" + std::string(host->value().data(), host->value().size());
-  }
-
-  Response text_response(http::status status, std::string body, unsigned version, bool keep_alive) {
-    Response res{status, version};
-    res.set(http::field::server, "throng-view");
-    res.set(http::field::content_type, "text/plain; charset=utf-8");
-    res.keep_alive(keep_alive);
-    res.body() = std::move(body);
-    res.prepare_payload();
-    return res;
-  }
-
-  Response handle(const http::request<http::string_body>& req) {
-    const bool head = req.method() == http::verb::head;
-    if (req.method() != http::verb::get && !head) {
-      Response r = text_response(http::status::method_not_allowed, "method not allowed\n", req.version(), req.keep_alive());
-      r.set(http::field::allow, "GET, HEAD");
-      return r;
-    }
-    std::string_view path = path_of(req.target());
-    std::string name;
-    std::string body;
-    bool found = false;
-    if (server_.options.web_root.empty()) {
-      if (const Asset* a = find_embedded_asset(path)) {
-        name = a->name;
-        body.assign(reinterpret_cast<const char*>(a->data), a->size);
-        found = true;
-      }
-    } else {
-      name = path == "/" ? "index.html" : std::string(path.substr(path.empty() ? 0 : 1));
-      if (flat_name(name)) {
-        std::ifstream in(server_.options.web_root + "/" + name, std::ios::binary);
-        if (in) {
-          std::ostringstream ss;
-          ss << in.rdbuf();
-          body = ss.str();
-          found = true;
-        }
-      }
-    }
-    if (!found) return text_response(http::status::not_found, "not found\n", req.version(), req.keep_alive());
-    Response res{http::status::ok, req.version()};
-    res.set(http::field::server, "throng-view");
-    res.set(http::field::content_type, content_type_for(name));
-    res.set(http::field::cache_control, "no-cache");
-    res.set("X-Content-Type-Options", "nosniff");
-    res.set("Content-Security-Policy", "default-src 'self'; connect-src 'self'; img-src 'self' data:");
-    res.keep_alive(req.keep_alive());
-    res.body() = std::move(body);
-    res.prepare_payload();
-    if (head) res.body().clear();  // Content-Length stays the GET one
-    return res;
-  }
-
-  void write(Response res) {
+  void write(HttpResponse res) {
     response_ = std::move(res);
     const bool keep_alive = response_.keep_alive();
     stream_.expires_after(server_.options.http_timeout);
@@ -318,7 +224,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   WebCore& server_;
   beast::flat_buffer buffer_;
   std::optional<http::request_parser<http::string_body>> parser_;
-  Response response_;
+  HttpResponse response_;
 };
 
 // --- server -----------------------------------------------------------------------------------

@@ -19,13 +19,17 @@
 //    all rewritten by the next tick before they are read;
 //  - the snapshot sink and the match id: they belong to the process hosting the match.
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <exception>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "match_impl.h"
 #include "match_info.h"
 #include "throng/core/byte_io.h"
+#include "throng/params/object_params.h"
 #include "throng/world/world.h"
 
 namespace throng::match {
@@ -106,6 +110,20 @@ ClientRecord get_client(ByteReader& r) {
   c.bracing = r.get_bool("client bracing");
   c.commands_accepted = r.get<std::uint64_t>("client accepted");
   c.commands_rejected = r.get<std::uint64_t>("client rejected");
+  // What the client's NPC gets back when the client goes (release) and the camera interest uses:
+  // valid parameter values and a finite camera, as a live match only ever stores. Found by
+  // fuzzing: a character type of 1.002 was accepted and the next timeout threw from set_param.
+  const std::pair<params::Param, double> kept[] = {{params::Param::character_type, c.npc_character_type},
+                                                   {params::Param::importance, c.npc_importance},
+                                                   {params::Param::weight_kg, c.base_weight_kg}};
+  for (const auto& [param, value] : kept) {
+    if (const auto why = params::check_param_value(param, value)) {
+      r.fail("client " + std::to_string(c.id) + ": " + std::string(params::param_name(param)) + " " + *why);
+    }
+  }
+  if (!std::isfinite(c.camera.x) || !std::isfinite(c.camera.y) || !std::isfinite(c.camera.z)) {
+    r.fail("client " + std::to_string(c.id) + ": camera is not finite");
+  }
   return c;
 }
 
@@ -323,6 +341,15 @@ void restore_match(Impl& m, std::span<const std::uint8_t> bytes, RestoreOptions 
     // (interest_grid.cpp): anything beyond twice that is corrupt.
     staged_snapshots.restore_state(snap, std::max<std::size_t>(1024, 2 * m.dense_of_slot.size()));
     if (snap.remaining() != 0) snap.fail(std::to_string(snap.remaining()) + " bytes after the end of the checkpoint");
+    // The builder serves exactly the connected clients (found by fuzzing: a connected client without
+    // baselines made the next tick throw from SnapshotBuilder::build).
+    std::uint32_t connected = 0;
+    for (const ClientRecord& c : records) {
+      if (!c.connected) continue;
+      ++connected;
+      if (!staged_snapshots.has_client(c.id)) snap.fail("connected client " + std::to_string(c.id) + " has no snapshot baselines");
+    }
+    if (staged_snapshots.client_count() != connected) snap.fail("snapshot baselines of clients that are not connected");
   } else {
     // As at each client's join (take_over): the builder knows exactly the connected clients.
     for (const ClientRecord& c : records) {
@@ -331,7 +358,30 @@ void restore_match(Impl& m, std::span<const std::uint8_t> bytes, RestoreOptions 
   }
   if (l.version >= 2 && r.remaining() != 0) r.fail(std::to_string(r.remaining()) + " bytes after the match section");
 
-  m.world().restore_state(l.world);  // throws before changing anything; the last thing that may throw
+  // Throws before changing anything (the AI's bodies checked against the decoded world section
+  // first); the last thing that may throw.
+  m.world().restore_state(l.world, [&](std::span<const ObjectId> ids) {
+    staged_ai.check_bodies(ids);
+    // Clients and the bodies they control agree (found by fuzzing: a connected client whose entity
+    // the world does not hold made the next snapshot read outside the position arrays).
+    std::vector<std::uint32_t> controls(records.size() + 1, 0);  // client id -> bodies controlled
+    for (std::size_t d = 0; d < ids.size(); ++d) {
+      const std::uint32_t c = their_controller[d];
+      if (c == 0) continue;
+      const ClientRecord& rec = records[c - 1];
+      if (!rec.connected || rec.entity != ids[d]) {
+        throw CheckpointError("checkpoint: body " + std::to_string(ids[d].value) + " is controlled by client " +
+                              std::to_string(c) + ", which does not control it");
+      }
+      ++controls[c];
+    }
+    for (const ClientRecord& rec : records) {
+      if (rec.connected && controls[rec.id] != 1) {
+        throw CheckpointError("checkpoint: connected client " + std::to_string(rec.id) + " does not control its entity " +
+                              std::to_string(rec.entity.value));
+      }
+    }
+  });
 
   // Commit.
   m.ticks = l.tick;

@@ -107,6 +107,10 @@ class NpcAi {
   // callers restore into a copy and move it in once everything else has decoded too.
   void save_state(ByteWriter& w) const;
   void restore_state(ByteReader& r, std::size_t n);
+  // After restore_state: throws CheckpointError unless the restored AI drives exactly the bodies
+  // `body_ids` (a world's, in its dense order; the AI's own order may be an older one, which
+  // follow_dense_order catches up with).
+  void check_bodies(std::span<const ObjectId> body_ids) const;
 
   std::span<const AiGroup> groups() const { return groups_; }
   std::uint32_t group_of(std::size_t dense_index) const { return group_[dense_index]; }

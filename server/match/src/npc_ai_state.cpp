@@ -5,7 +5,9 @@
 // sum_x_/sum_y_ sizes. Not saved (scratch, rebuilt by every update() before it is read):
 // body_cell_, the grid (start_, cursor_, ex_/ey_/ei_, near_, enemy_near_, window_ and its
 // dimensions) and the follow_dense_order scratch.
+#include <algorithm>
 #include <string>
+#include <vector>
 
 #include "npc_ai.h"
 #include "throng/core/byte_io.h"
@@ -99,6 +101,23 @@ void NpcAi::restore_state(ByteReader& r, std::size_t n) {
   ex_.resize(n);
   ey_.resize(n);
   ei_.resize(n);
+}
+
+// Found by fuzzing (tests/fuzz match_checkpoint): a checkpoint whose AI named a body the world
+// section does not hold was accepted, and the next tick threw from World::set_desired_velocity.
+void NpcAi::check_bodies(std::span<const ObjectId> body_ids) const {
+  bool same = ids_.size() == body_ids.size();
+  if (same) {
+    std::vector<std::uint32_t> mine(ids_.size()), theirs(body_ids.size());
+    for (std::size_t i = 0; i < ids_.size(); ++i) {
+      mine[i] = ids_[i].value;
+      theirs[i] = body_ids[i].value;
+    }
+    std::sort(mine.begin(), mine.end());
+    std::sort(theirs.begin(), theirs.end());
+    same = mine == theirs;
+  }
+  if (!same) throw CheckpointError("checkpoint's NPC AI drives other bodies than its world section holds");
 }
 
 }  // namespace throng::match

@@ -32,6 +32,20 @@ StaticScenery thin_wall_scene() {
   return s;
 }
 
+// Found by fuzzing (tests/fuzz world_checkpoint): a displacement of 1e33 m made the sample count's
+// double-to-long conversion overflow (undefined behaviour; the sanitizer build checks it). The count
+// is capped at kMaxSamples instead (so such a move may step over a wall: World refuses desired
+// speeds above 1000 m/s, in set_desired_velocity and in checkpoints, long before that).
+TEST(GeomSceneryMotion, AbsurdDisplacementIsCappedNotOverflowed) {
+  const StaticScenery s = thin_wall_scene();
+  const Capsule mover = upright(0, 0, 0.5, 1.5, kR);
+  for (const double x : {1e33, -1e300, 1e18}) {
+    const double f = s.first_hit_fraction(mover, Vec3{x, 0, 0});
+    EXPECT_GE(f, 0.0) << x;
+    EXPECT_LE(f, 1.0) << x;
+  }
+}
+
 TEST(GeomSceneryMotion, FastMoverStopsInFrontOfThinWall) {
   const StaticScenery s = thin_wall_scene();
   const Capsule mover = upright(0, 0, 0.5, 1.5, kR);

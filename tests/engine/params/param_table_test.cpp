@@ -161,6 +161,15 @@ TEST(ParamsTable, MalformedJsonNamesTheSource) {
   EXPECT_THROW((void)ParamTable::load_file("/nonexistent/params.json"), ConfigError);
 }
 
+// nlohmann reports a number too large for any JSON number type as out_of_range, not parse_error:
+// it must still be the documented ConfigError (tests/fuzz params_json found a bare exception).
+TEST(ParamsTable, OverflowingNumberIsMalformedJson) {
+  const ConfigError e = config_error_of([] { (void)ParamTable::parse(R"({"version": 429E967295})", "big.json"); });
+  EXPECT_EQ(e.path(), "");
+  EXPECT_NE(e.message().find("big.json: malformed JSON"), std::string::npos) << e.what();
+  EXPECT_NE(e.message().find("number overflow"), std::string::npos) << e.what();
+}
+
 TEST(ParamsTable, OverridesAreValidatedWhenAdded) {
   ParamTable t;
   ParamPatch bad;

@@ -107,5 +107,13 @@ TEST(ParamsPolicyJson, MalformedJson) {
   EXPECT_NE(e.message().find("policy.json: malformed JSON"), std::string::npos) << e.what();
 }
 
+// A number beyond double's range (nlohmann: out_of_range, not parse_error) is malformed JSON too:
+// the server's operator channel hands PushPolicy::parse whatever a peer sent (found by fuzzing).
+TEST(ParamsPolicyJson, OverflowingNumberIsMalformedJson) {
+  const ConfigError e = config_error_of([] { (void)PushPolicy::parse(R"({"mode": "ratio", "x": -1e999})", "policy_json"); });
+  EXPECT_EQ(e.path(), "");
+  EXPECT_NE(e.message().find("policy_json: malformed JSON"), std::string::npos) << e.what();
+}
+
 }  // namespace
 }  // namespace throng::params

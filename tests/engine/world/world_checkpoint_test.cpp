@@ -3,6 +3,10 @@
 // leave the world unchanged; diff_world_states names exactly the perturbed bodies.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -174,6 +178,89 @@ TEST(WorldCheckpoint, BadBytesThrowAndLeaveTheWorldUnchanged) {
     ADD_FAILURE() << "restored into another configuration";
   } catch (const CheckpointError& e) {
     EXPECT_NE(std::string(e.what()).find("another configuration"), std::string::npos) << e.what();
+  }
+}
+
+// Found by fuzzing (tests/fuzz world_checkpoint): a checkpoint whose body position is NaN was
+// accepted, and the next step converted it to a grid cell coordinate (undefined behaviour). Values
+// no API call could have made are refused with the body named; the world stays unchanged.
+TEST(WorldCheckpoint, NonFiniteBodyStateIsRefused) {
+  const scene::SceneDef def = small("obstacles");
+  scene::BuiltScene a = scene::build_scene(def);
+  run(a, 5);
+  Bytes saved;
+  a.world.save_state(saved);
+  // The x column holds body 0's x as its first entry: find those 8 bytes (unique in practice).
+  const double x0 = a.world.pos_x()[0];
+  std::uint8_t pattern[8];
+  std::memcpy(pattern, &x0, 8);
+  const auto at = std::search(saved.begin(), saved.end(), pattern, pattern + 8);
+  ASSERT_NE(at, saved.end());
+  for (const double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    Bytes damaged = saved;
+    std::memcpy(&damaged[static_cast<std::size_t>(at - saved.begin())], &bad, 8);
+    scene::BuiltScene b = scene::build_scene(def);
+    Bytes before;
+    b.world.save_state(before);
+    try {
+      b.world.restore_state(damaged);
+      ADD_FAILURE() << "accepted a body at x = " << bad;
+    } catch (const CheckpointError& e) {
+      EXPECT_NE(std::string(e.what()).find("body 0 has a non-finite position"), std::string::npos) << e.what();
+    }
+    Bytes after;
+    b.world.save_state(after);
+    EXPECT_EQ(after, before);
+    b.world.step();  // still steps
+  }
+  // A body reach beyond any body's (found by fuzzing: the next step built scenery cells without
+  // end): the max body reach and the scenery reach are the two doubles before the x column's count.
+  for (const std::size_t back : {std::size_t{20}, std::size_t{12}}) {
+    Bytes far = saved;
+    const double reach = 1e9;
+    std::memcpy(&far[static_cast<std::size_t>(at - saved.begin()) - back], &reach, 8);
+    scene::BuiltScene b = scene::build_scene(def);
+    try {
+      b.world.restore_state(far);
+      ADD_FAILURE() << "accepted a reach of 1e9 m";
+    } catch (const CheckpointError& e) {
+      EXPECT_NE(std::string(e.what()).find("reach"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("out of range"), std::string::npos) << e.what();
+    }
+  }
+  // Parameters out of their ranges (found by fuzzing: a NaN parameter was accepted and the next
+  // step threw from the push policy): body 0's record holds importance, size and weight in a row.
+  {
+    const params::ObjectParams& p0 = a.world.params(a.world.id_at(0));
+    const double three[3] = {p0.importance, p0.size_m, p0.weight_kg};
+    const auto* t = reinterpret_cast<const std::uint8_t*>(three);
+    const auto rec = std::search(saved.begin() + (at - saved.begin()), saved.end(), t, t + sizeof(three));
+    ASSERT_NE(rec, saved.end());
+    Bytes bad = saved;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    std::memcpy(&bad[static_cast<std::size_t>(rec - saved.begin())], &nan, 8);
+    scene::BuiltScene b = scene::build_scene(def);
+    try {
+      b.world.restore_state(bad);
+      ADD_FAILURE() << "accepted a NaN importance";
+    } catch (const CheckpointError& e) {
+      EXPECT_NE(std::string(e.what()).find("body params"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("importance"), std::string::npos) << e.what();
+    }
+  }
+  // A desired velocity beyond set_desired_velocity's 1000 m/s: the vx column starts after the
+  // rest of x and the whole y and z columns (each a u32 count, then n doubles).
+  const std::size_t n = a.world.body_count();
+  const std::size_t vx0 = static_cast<std::size_t>(at - saved.begin()) + 3 * n * 8 + 3 * 4;
+  Bytes fast = saved;
+  const double too_fast = 2000.0;
+  std::memcpy(&fast[vx0], &too_fast, 8);
+  scene::BuiltScene c = scene::build_scene(def);
+  try {
+    c.world.restore_state(fast);
+    ADD_FAILURE() << "accepted a desired speed of 2000 m/s";
+  } catch (const CheckpointError& e) {
+    EXPECT_NE(std::string(e.what()).find("body 0 has a desired speed above 1000 m/s"), std::string::npos) << e.what();
   }
 }
 

@@ -74,7 +74,8 @@ double StaticScenery::first_hit_fraction(const Capsule& mover, Vec3 displacement
   };
 
   const double step = std::max(0.5 * mover.radius, kMinStep);
-  const long samples = std::clamp(static_cast<long>(std::ceil(travel / step)), 1L, kMaxSamples);
+  // Clamped before the conversion: a travel beyond long's range must not be converted (UB).
+  const long samples = static_cast<long>(std::clamp(std::ceil(travel / step), 1.0, static_cast<double>(kMaxSamples)));
   double free_f = 0.0;
   for (long k = 1; k <= samples; ++k) {
     const double f = static_cast<double>(k) / static_cast<double>(samples);

@@ -88,7 +88,7 @@ void check_version(const json& doc, int supported) {
 json parse_json_text(std::string_view text, std::string_view source) {
   try {
     return json::parse(text.begin(), text.end());
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, and out_of_range for a number that overflows (found by fuzzing)
     fail("", std::string(source) + ": malformed JSON: " + e.what());
   }
 }

@@ -3,6 +3,7 @@
 
 #include <cstring>
 #include <exception>
+#include <stdexcept>
 #include <string>
 
 namespace throng::detail {
@@ -124,6 +125,13 @@ void get_params(ByteReader& r, std::size_t n, std::vector<params::ObjectParams>&
     p.level = c.get<double>();
     p.collision_group = c.get<std::uint32_t>();
     p.collision_mask = c.get<std::uint32_t>();
+    // Every value within its parameter's range, as the setters keep them (found by fuzzing: NaN
+    // parameters were accepted and the next step threw from the push policy's score).
+    try {
+      p.validate();
+    } catch (const std::invalid_argument& e) {
+      r.fail(std::string(what) + ": " + e.what());
+    }
   }
 }
 

@@ -178,6 +178,14 @@ WorldState decode_world_state(ByteReader& r) {
   st.scenery_dirty = r.get_bool("scenery dirty");
   st.max_body_reach_m = r.get<double>("max body reach");
   st.scenery_reach_m = r.get<double>("scenery reach");
+  // A body reaches at most its radius (create_body: <= 100 m) plus the contact margin (WorldSettings:
+  // <= 10 m); the scenery cells are built for that plus 1 m. Found by fuzzing: a restored reach of
+  // 1e9 m made the next step allocate scenery cells without end.
+  if (!(st.max_body_reach_m >= 0.0 && st.max_body_reach_m <= 110.0) ||
+      !(st.scenery_reach_m >= 0.0 && st.scenery_reach_m <= 111.0)) {
+    r.fail("body reach " + std::to_string(st.max_body_reach_m) + " / scenery reach " + std::to_string(st.scenery_reach_m) +
+           " out of range");
+  }
   st.bodies.for_each_column([&](auto& col) { r.get_array_exact(col, "body column", n); });
   st.bodies.warm.assign(std::size_t{n} * kWarmSlots, WarmEntry{0, 0.0f});
   std::uint32_t warm_total = 0;
@@ -199,6 +207,30 @@ WorldState decode_world_state(ByteReader& r) {
       }
       e.lambda = static_cast<float>(lambda);
       p += 12;
+    }
+  }
+  // What the public API guarantees of every body (create_body, set_position, set_desired_velocity
+  // and the step keep positions, velocities and pushes finite, radius and half height in range):
+  // a checkpoint may not bring in what no call could have made. Found by fuzzing: a NaN position
+  // was accepted and reached the grids' cell keys (a float-to-integer conversion) in the next step.
+  {
+    const BodyStore& b = st.bodies;
+    for (std::uint32_t i = 0; i < n; ++i) {
+      for (const double v : {b.x[i], b.y[i], b.z[i], b.vx[i], b.vy[i], b.vz[i], b.ax[i], b.ay[i], b.az[i], b.px[i],
+                             b.py[i], b.resistance[i]}) {
+        if (!std::isfinite(v)) r.fail("body " + std::to_string(i) + " has a non-finite position, velocity, push or resistance");
+      }
+      // set_desired_velocity's limit (found by fuzzing: a 1e33 m/s desire reached the scenery sweep).
+      if (b.vx[i] * b.vx[i] + b.vy[i] * b.vy[i] + b.vz[i] * b.vz[i] > 1000.0 * 1000.0) {
+        r.fail("body " + std::to_string(i) + " has a desired speed above 1000 m/s");
+      }
+      if (!(b.r[i] >= 1e-4 && b.r[i] <= 100.0) || !(b.hh[i] >= 0.0 && b.hh[i] <= 100.0)) {
+        r.fail("body " + std::to_string(i) + " radius " + std::to_string(b.r[i]) + " / half height " +
+               std::to_string(b.hh[i]) + " out of range");
+      }
+      if (b.morale_level[i] < -1 || b.morale_level[i] > 1) {
+        r.fail("body " + std::to_string(i) + " morale level " + std::to_string(b.morale_level[i]));
+      }
     }
   }
   get_params(r, n, st.body_params, "body params");
@@ -350,10 +382,14 @@ void World::save_state(std::vector<std::uint8_t>& out) const {
 
 void World::restore_state(ByteReader& in) { impl_->apply_state(detail::decode_world_state(in)); }
 
-void World::restore_state(std::span<const std::uint8_t> bytes) {
+void World::restore_state(std::span<const std::uint8_t> bytes) { restore_state(bytes, {}); }
+
+void World::restore_state(std::span<const std::uint8_t> bytes,
+                          const std::function<void(std::span<const ObjectId> body_ids)>& check_bodies) {
   ByteReader r(bytes);
   detail::WorldState st = detail::decode_world_state(r);
   if (r.remaining() != 0) r.fail(std::to_string(r.remaining()) + " bytes after the world state");
+  if (check_bodies) check_bodies(st.bodies.id);
   impl_->apply_state(std::move(st));
 }
 

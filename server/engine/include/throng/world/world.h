@@ -8,6 +8,7 @@
 // sequence of calls on the same binary gives a bit-identical state_hash() every tick.
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -102,6 +103,11 @@ class World {
   // a world with other settings / scenery; the world is unchanged then. push_events() and the
   // last StepStats are empty afterwards (they describe a step, not the state).
   void restore_state(std::span<const std::uint8_t> bytes);  // exactly one world section
+  // The same, with a check of the bodies the section holds (their ids, in its dense order) that
+  // runs once it has decoded and before anything changes: it may throw CheckpointError (a match
+  // checks that its NPC AI's state names exactly these bodies).
+  void restore_state(std::span<const std::uint8_t> bytes,
+                     const std::function<void(std::span<const ObjectId> body_ids)>& check_bodies);
   void restore_state(ByteReader& in);                       // reads one section, leaves the rest
 
   // Fixed scenery access for metrics and tools (penetration of a capsule into scenery).
