@@ -442,6 +442,20 @@ TEST(MatchCheckpointClients, InconsistentClientRecordsAreRefused) {
     }
     EXPECT_EQ(target.tick_index(), 0u);  // unchanged
   }
+  // A camera no command could have set (found by fuzzing: at -1.5e266 m the next snapshot threw).
+  // The record holds the camera's x, y, z just before the kept NPC values.
+  for (const double far : {-1.5e266, 2.0e6}) {
+    Bytes bad = saved;
+    std::memcpy(&bad[offset - 24], &far, 8);
+    try {
+      target.restore_checkpoint(bad);
+      ADD_FAILURE() << "accepted a camera at x = " << far;
+    } catch (const CheckpointError& e) {
+      EXPECT_NE(std::string(e.what()).find("client 1: camera is not a finite coordinate within 1e6 m"), std::string::npos)
+          << e.what();
+    }
+    EXPECT_EQ(target.tick_index(), 0u);
+  }
   // A connected client whose entity is another body than the one it controls (found by fuzzing:
   // with an entity the world does not hold, the next snapshot read outside the position arrays).
   // Its record: ... partition string, then the entity id.

@@ -132,6 +132,9 @@ TEST(MatchConfig, ValidationNamesTheField) {
   c.max_commands_per_tick = 0;
   expect_bad(c, "max_commands_per_tick");
   c = {};
+  c.camera_limit_m = 2e6;  // beyond what snapshots serve: an accepted camera would fail the tick
+  expect_bad(c, "camera_limit_m");
+  c = {};
   c.player_speed_mps = -1;
   expect_bad(c, "player_speed_mps");
   c = {};

@@ -26,6 +26,7 @@
 #include <utility>
 #include <vector>
 
+#include "interest_grid.h"
 #include "match_impl.h"
 #include "match_info.h"
 #include "throng/core/byte_io.h"
@@ -111,8 +112,9 @@ ClientRecord get_client(ByteReader& r) {
   c.commands_accepted = r.get<std::uint64_t>("client accepted");
   c.commands_rejected = r.get<std::uint64_t>("client rejected");
   // What the client's NPC gets back when the client goes (release) and the camera interest uses:
-  // valid parameter values and a finite camera, as a live match only ever stores. Found by
-  // fuzzing: a character type of 1.002 was accepted and the next timeout threw from set_param.
+  // valid parameter values and a camera within the coordinates snapshots serve (kMaxCoordinateM),
+  // as a live match only ever stores. Found by fuzzing: a character type of 1.002 was accepted and
+  // the next timeout threw from set_param; a camera at -1.5e266 m made the next snapshot throw.
   const std::pair<params::Param, double> kept[] = {{params::Param::character_type, c.npc_character_type},
                                                    {params::Param::importance, c.npc_importance},
                                                    {params::Param::weight_kg, c.base_weight_kg}};
@@ -121,8 +123,9 @@ ClientRecord get_client(ByteReader& r) {
       r.fail("client " + std::to_string(c.id) + ": " + std::string(params::param_name(param)) + " " + *why);
     }
   }
-  if (!std::isfinite(c.camera.x) || !std::isfinite(c.camera.y) || !std::isfinite(c.camera.z)) {
-    r.fail("client " + std::to_string(c.id) + ": camera is not finite");
+  if (!(std::fabs(c.camera.x) <= detail::kMaxCoordinateM) || !(std::fabs(c.camera.y) <= detail::kMaxCoordinateM) ||
+      !(std::fabs(c.camera.z) <= detail::kMaxCoordinateM)) {
+    r.fail("client " + std::to_string(c.id) + ": camera is not a finite coordinate within 1e6 m");
   }
   return c;
 }

@@ -7,6 +7,8 @@
 
 #include "throng/match/match_config.h"
 
+#include "interest_grid.h"
+
 namespace throng::match {
 namespace {
 
@@ -31,7 +33,9 @@ void validate_config(const MatchConfig& c) {
   check(c.worker_threads, 1, 64, "worker_threads");
   check(c.player_speed_mps, 0.0, 100.0, "player_speed_mps", true);
   check(c.npc_speed_mps, 0.0, 100.0, "npc_speed_mps", true);
-  check(c.camera_limit_m, 0.0, 1e7, "camera_limit_m", true);
+  // No further than snapshots serve (interest_grid.h): a camera the match accepted must not make the
+  // snapshot phase throw.
+  check(c.camera_limit_m, 0.0, detail::kMaxCoordinateM, "camera_limit_m", true);
   check(c.interest.radius_m, 0.0, 1e6, "interest.radius_m");
   check(c.interest.exit_hysteresis, 1.0, 10.0, "interest.exit_hysteresis");
   if (c.interest.budget_bytes != 0)  // 0 = unlimited (measurements, LAN spectators)

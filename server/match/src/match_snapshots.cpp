@@ -5,6 +5,7 @@
 // threads, and the statistics are reduced with sum/max, which do not depend on the order either.
 #include <algorithm>
 
+#include "interest_grid.h"
 #include "match_impl.h"
 #include "throng/world/world.h"
 
@@ -37,8 +38,13 @@ void Match::Impl::build_snapshots(std::uint64_t tick, Outbox& out) {
       s.entity_y = static_cast<float>(ys[d]);
       s.entity_z = static_cast<float>(zs[d]);
       s.entity_yaw = yaw[d];
+      // A client without a camera looks from its entity, which nothing keeps within the coordinates
+      // snapshots serve; beyond them there is nothing to see (the interest grid leaves such bodies
+      // out), so the view is taken from the edge instead of failing the tick.
       const Vec3 cam = camera_of(c);
-      const BuildStats& st = snapshots.build(c.id, cam.x, cam.y, s, scratches[worker]);
+      const BuildStats& st =
+          snapshots.build(c.id, std::clamp(cam.x, -detail::kMaxCoordinateM, detail::kMaxCoordinateM),
+                          std::clamp(cam.y, -detail::kMaxCoordinateM, detail::kMaxCoordinateM), s, scratches[worker]);
       totals.poses += st.sent;
       totals.view_error_max_m = std::max(totals.view_error_max_m, st.view_error_max_m);
       if (sink) sink(s);

@@ -30,7 +30,7 @@ struct MatchConfig {
   std::uint32_t max_commands_per_tick = 4;  // per client; more in one tick are rejected
   double player_speed_mps = 4.0;          // |move| = 1 gives this speed (sprint x1.5)
   double npc_speed_mps = 1.2;             // NPC cruising speed
-  double camera_limit_m = 10000.0;        // |camera coordinate| above this is rejected
+  double camera_limit_m = 10000.0;        // |camera coordinate| above this is rejected [0, 1e6]
   // Threads building (and, with a sink, publishing) the clients' snapshots, the caller included.
   // Results do not depend on it: each client's snapshot depends only on the world and its own history.
   std::uint32_t worker_threads = 2;
