@@ -100,6 +100,23 @@ TEST(ParamsPolicy, FixedBodyTakesNothingInEveryMode) {
   }
 }
 
+// Found by fuzzing (world checkpoints): two inputs that each overflow over their scale (a height
+// and a camera distance near the largest double) gave inf - inf, a NaN score, and the next step
+// threw. Each input over its scale is bounded far beyond real values, so the score is finite.
+TEST(ParamsPolicy, TwoOverflowingInputsGiveAFiniteScoreNotNaN) {
+  const PushPolicy policy(PushMode::ratio,
+                          {Term{TermInput::height_above_ground_m, 1.0, 0.5, false},
+                           Term{TermInput::camera_distance_m, 1.0, 0.5, true}},
+                          {});
+  const GroupTable groups;
+  ObjectParams o;
+  o.height_above_ground_m = 1.7e308;
+  o.camera_distance_m = 1.7e308;
+  EXPECT_EQ(policy.static_score(o, groups), 0.0);
+  o.camera_distance_m = 1.0;
+  EXPECT_EQ(policy.static_score(o, groups), kScoreClamp);
+}
+
 TEST(ParamsPolicy, ScoreIsClampedAndSharesStayStrictlyInside) {
   const PushPolicy policy = single_term(TermInput::height_above_ground_m, 1000.0, 1.0);
   const GroupTable groups;

@@ -127,11 +127,20 @@ PushPolicy::PushPolicy(PushMode mode, std::vector<Term> terms, std::vector<PairR
   validate_pair_rules(rules_);
 }
 
+namespace {
+constexpr double kTermValueLimit = 1e100;
+}  // namespace
+
 double PushPolicy::static_score(const ObjectParams& o, const GroupTable& groups) const {
   const Group* g = groups.find(o.group_id);
   double s = 0.0;
   for (const CompiledTerm& t : static_terms_) {
-    s += t.signed_weight * (static_term_value(t.input, o, g, home_faction_) / t.scale);
+    // Each input over its scale is bounded far beyond any real value (kTermValueLimit), so that
+    // two unbounded inputs (a height or camera distance of 1e300 m) sum to a finite score instead
+    // of inf - inf = NaN; real inputs never come near the bound, so their bits are unchanged.
+    const double v =
+        std::clamp(static_term_value(t.input, o, g, home_faction_) / t.scale, -kTermValueLimit, kTermValueLimit);
+    s += t.signed_weight * v;
   }
   if (std::isnan(s)) {
     throw std::invalid_argument("object " + std::to_string(o.object_id) + "/" + std::to_string(o.collision_id) +
