@@ -142,14 +142,6 @@ server::ServerOptions agones_options(int domain, std::uint16_t sdk_port) {
   return o;
 }
 
-void leave(TestClient& client, const protocol::JoinReply& r) {
-  protocol::JoinRequest l;
-  l.client_nonce = r.client_nonce;
-  l.leave = true;
-  l.client_id = r.client_id;
-  client.transport().send_join(l);
-}
-
 // Ready, health pings, the player count as a label, and shutdown when the match ends by itself
 // after its only player left.
 TEST(Agones, ReadyHealthPlayersLabelAndShutdownWhenTheLastPlayerLeft) {
@@ -169,7 +161,7 @@ TEST(Agones, ReadyHealthPlayersLabelAndShutdownWhenTheLastPlayerLeft) {
       return false;
     };
     ASSERT_TRUE(client.wait_until([&] { return label_is("1"); })) << "no players=1 label";
-    leave(client, *r);
+    ASSERT_TRUE(client.leave(r->client_nonce, r->client_id)) << "no reply to the leave";
     ASSERT_TRUE(client.wait_until([&] { return label_is("0") && sdk.of("PUT", "/metadata/label").size() >= 3; }));
   }
   // Nobody joins again: the match ends by itself and tells Agones.

@@ -60,16 +60,7 @@ TEST(ServerJoinBurst, AThousandJoinsInASecondAreAnsweredAndTheMatchGoesOn) {
   ASSERT_TRUE(player.wait_until([&] { return player.snapshots().back().tick > tick_before + 30; }, 10s));
 
   // One seat freed: the next join takes it.
-  protocol::JoinRequest leave;
-  leave.client_nonce = 1;
-  leave.leave = true;
-  leave.client_id = first->client_id;
-  player.transport().send_join(leave);
-  ASSERT_TRUE(player.wait_until([&] {
-    for (const auto& x : player.replies())
-      if (x.client_nonce == 1 && x.result == protocol::JoinResult::left) return true;
-    return false;
-  }));
+  ASSERT_TRUE(player.leave(1, first->client_id)) << "no reply to the leave";
   TestClient late(195);
   const auto r = late.join(5000, "late");
   ASSERT_TRUE(r.has_value());

@@ -36,16 +36,7 @@ TEST(ServerLiveness, ALeaveMessageEndsTheSessionAtOnce) {
   TestClient client(148);
   const auto r = client.join(7, "polite");
   ASSERT_TRUE(r && r->result == protocol::JoinResult::accepted);
-  protocol::JoinRequest leave;
-  leave.client_nonce = 7;
-  leave.leave = true;
-  leave.client_id = r->client_id;
-  client.transport().send_join(leave);
-  ASSERT_TRUE(client.wait_until([&] {
-    for (const auto& x : client.replies())
-      if (x.client_nonce == 7 && x.result == protocol::JoinResult::left) return true;
-    return false;
-  })) << "no reply to the leave";
+  ASSERT_TRUE(client.leave(7, r->client_id)) << "no reply to the leave";
   server.stop();
   const auto s = server.server().summary();
   ASSERT_EQ(s["clients"].size(), 1u);

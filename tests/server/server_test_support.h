@@ -173,6 +173,20 @@ class TestClient {
     return reply;
   }
 
+  // Leaves as the client that joined with `nonce`; true once the server answered "left".
+  bool leave(std::uint64_t nonce, std::uint32_t client_id) {
+    protocol::JoinRequest r;
+    r.client_nonce = nonce;
+    r.leave = true;
+    r.client_id = client_id;
+    transport_.send_join(r);
+    return wait_until([&] {
+      for (const auto& x : replies_)
+        if (x.client_nonce == nonce && x.result == protocol::JoinResult::left) return true;
+      return false;
+    });
+  }
+
   // Records client_id's snapshots from `partition` (subscribing again re-points the reader).
   void subscribe(std::uint32_t client_id, const std::string& partition) {
     transport_.subscribe_snapshots(client_id, partition,

@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "world/body_limits.h"
 #include "world/world_impl.h"
 
 namespace throng {
@@ -91,8 +92,8 @@ ObjectId World::add_fixed_mesh(std::vector<Vec3> vertices, std::vector<std::arra
 
 ObjectId World::create_body(const BodyDef& def) {
   require_finite(def.position, "create_body.position");
-  require_range(def.radius_m, 1e-4, 100.0, "create_body.radius_m");
-  require_range(def.half_height_m, 0.0, 100.0, "create_body.half_height_m");
+  require_range(def.radius_m, detail::kMinBodyRadiusM, detail::kMaxBodyRadiusM, "create_body.radius_m");
+  require_range(def.half_height_m, 0.0, detail::kMaxBodyHalfHeightM, "create_body.half_height_m");
   Impl& w = *impl_;
   const auto dense = static_cast<std::uint32_t>(w.bodies.size());
   // Resolve parameters first so that an unknown archetype leaves the world untouched.
@@ -146,7 +147,7 @@ bool World::is_fixed(ObjectId id) const {
 
 void World::set_desired_velocity(ObjectId id, Vec3 v) {
   require_finite(v, "set_desired_velocity");
-  if (length(v) > 1000.0) throw std::invalid_argument("set_desired_velocity: speed above 1000 m/s");
+  if (length(v) > detail::kMaxDesiredSpeedMps) throw std::invalid_argument("set_desired_velocity: speed above 1000 m/s");
   const std::uint32_t i = impl_->body_index(id, "set_desired_velocity");
   impl_->bodies.vx[i] = v.x;
   impl_->bodies.vy[i] = v.y;

@@ -25,6 +25,7 @@
 
 #include "throng/world/world.h"
 #include "world/param_codec.h"
+#include "world/body_limits.h"
 #include "world/world_impl.h"
 #include "world/world_state.h"
 
@@ -178,11 +179,10 @@ WorldState decode_world_state(ByteReader& r) {
   st.scenery_dirty = r.get_bool("scenery dirty");
   st.max_body_reach_m = r.get<double>("max body reach");
   st.scenery_reach_m = r.get<double>("scenery reach");
-  // A body reaches at most its radius (create_body: <= 100 m) plus the contact margin (WorldSettings:
-  // <= 10 m); the scenery cells are built for that plus 1 m. Found by fuzzing: a restored reach of
-  // 1e9 m made the next step allocate scenery cells without end.
-  if (!(st.max_body_reach_m >= 0.0 && st.max_body_reach_m <= 110.0) ||
-      !(st.scenery_reach_m >= 0.0 && st.scenery_reach_m <= 111.0)) {
+  // The scenery cells are built for the largest reach plus 1 m. Found by fuzzing: a restored reach
+  // of 1e9 m made the next step allocate scenery cells without end.
+  if (!(st.max_body_reach_m >= 0.0 && st.max_body_reach_m <= kMaxBodyReachM) ||
+      !(st.scenery_reach_m >= 0.0 && st.scenery_reach_m <= kMaxBodyReachM + 1.0)) {
     r.fail("body reach " + std::to_string(st.max_body_reach_m) + " / scenery reach " + std::to_string(st.scenery_reach_m) +
            " out of range");
   }
@@ -221,10 +221,11 @@ WorldState decode_world_state(ByteReader& r) {
         if (!std::isfinite(v)) r.fail("body " + std::to_string(i) + " has a non-finite position, velocity, push or resistance");
       }
       // set_desired_velocity's limit (found by fuzzing: a 1e33 m/s desire reached the scenery sweep).
-      if (b.vx[i] * b.vx[i] + b.vy[i] * b.vy[i] + b.vz[i] * b.vz[i] > 1000.0 * 1000.0) {
+      if (b.vx[i] * b.vx[i] + b.vy[i] * b.vy[i] + b.vz[i] * b.vz[i] > kMaxDesiredSpeedMps * kMaxDesiredSpeedMps) {
         r.fail("body " + std::to_string(i) + " has a desired speed above 1000 m/s");
       }
-      if (!(b.r[i] >= 1e-4 && b.r[i] <= 100.0) || !(b.hh[i] >= 0.0 && b.hh[i] <= 100.0)) {
+      if (!(b.r[i] >= kMinBodyRadiusM && b.r[i] <= kMaxBodyRadiusM) ||
+          !(b.hh[i] >= 0.0 && b.hh[i] <= kMaxBodyHalfHeightM)) {
         r.fail("body " + std::to_string(i) + " radius " + std::to_string(b.r[i]) + " / half height " +
                std::to_string(b.hh[i]) + " out of range");
       }
