@@ -75,6 +75,7 @@ int run_info(const InfoOptions& o) {
     j["index_records"] = s.index_records;
     j["keyframes"] = s.keyframes.size();
     j["keyframe_interval_ticks"] = h.writer.keyframe_interval_ticks;
+    j["keyframe_snapshot_baselines"] = h.writer.keyframe_snapshot_baselines;
     j["keyframe_bytes"] = s.keyframe_bytes;
     j["keyframe_raw_bytes"] = s.keyframe_raw_bytes;
     j["first_keyframe_tick"] = s.keyframes.empty() ? 0 : s.keyframes.front().tick;
@@ -113,6 +114,9 @@ int run_info(const InfoOptions& o) {
                s.keyframes.size(), h.writer.keyframe_interval_ticks, s.keyframes.front().tick, s.keyframes.back().tick,
                s.keyframe_bytes, static_cast<double>(s.keyframe_bytes) / n, static_cast<double>(s.keyframe_raw_bytes) / n,
                s.file_bytes > 0 ? 100.0 * static_cast<double>(s.keyframe_bytes) / static_cast<double>(s.file_bytes) : 0.0);
+    fmt::print("           {}\n", h.writer.keyframe_snapshot_baselines
+                                     ? "snapshot baselines kept: play publishes what the server sent from any seek on"
+                                     : "without snapshot baselines: after a seek, play starts every client's snapshots afresh");
   } else if (h.format_version < 2) {
     fmt::print("keyframes  none (format version 1 has no world keyframes): seeking re-simulates from tick 1\n");
   } else {

@@ -134,6 +134,11 @@ int run_play(const PlayOptions& o) {
   if (first_seek.ticks_simulated > 0)
     fmt::print(stderr, "seeked to tick {} in {:.0f} ms ({} ticks re-simulated)\n", first_seek.tick, first_seek.ms,
                first_seek.ticks_simulated);
+  if (first_seek.keyframe_tick > 0 && !h.writer.keyframe_snapshot_baselines)
+    fmt::print(stderr, "note: this log's keyframes hold no snapshot baselines (the server's default; --log-baselines keeps "
+                       "them): snapshots were rebuilt from empty baselines at the keyframe of tick {}, so they are not byte "
+                       "for byte what the server sent\n",
+               first_seek.keyframe_tick);
 
   // Absolute deadlines, like the server's tick (TickSchedule): a late wake-up never becomes drift;
   // after a stall at most 3 ticks run back to back, and the lost time beyond is given up.

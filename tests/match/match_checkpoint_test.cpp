@@ -247,6 +247,44 @@ TEST(MatchCheckpoint, WithoutBaselinesRestoresIntoOtherInterestSettings) {
   }
 }
 
+TEST(MatchCheckpoint, SavedWithoutBaselinesRestoresAsResetInEitherMode) {
+  // SaveOptions{.snapshot_baselines = false} (the match log's keyframes by default): the same
+  // world and match sections, an empty snapshot section, and in either restore mode the match goes
+  // on exactly as one restored from the full checkpoint with reset: snapshots included.
+  const MatchConfig config = test::small_config();
+  Match a(small_battle(), config, "a");
+  Outbox out;
+  Driver da;
+  for (int t = 0; t < 140; ++t) step(a, da, out);
+  ASSERT_GE(a.client_count(), 3u);
+  Bytes full, lean;
+  a.save_checkpoint(full);
+  a.save_checkpoint(lean, SaveOptions{.snapshot_baselines = false});
+  const CheckpointSections f = checkpoint_sections(full), l = checkpoint_sections(lean);
+  EXPECT_TRUE(same(f.world, l.world));
+  EXPECT_TRUE(same(f.match_state, l.match_state));
+  EXPECT_FALSE(f.snapshot_baselines.empty());
+  EXPECT_TRUE(l.snapshot_baselines.empty());
+  EXPECT_LT(lean.size(), full.size());
+  for (const MatchConfig& cfg : {config, fast_interest(config)}) {
+    SCOPED_TRACE("interest radius " + std::to_string(cfg.interest.radius_m));
+    Match reference(small_battle(), cfg, "ref"), by_restore(small_battle(), cfg, "r"), by_reset(small_battle(), cfg, "s");
+    reference.restore_checkpoint(full, RestoreOptions{SnapshotBaselines::reset});
+    by_restore.restore_checkpoint(lean);  // restore mode: nothing to restore, no interest check
+    by_reset.restore_checkpoint(lean, RestoreOptions{SnapshotBaselines::reset});
+    Driver d0 = da, d1 = da, d2 = da;
+    Outbox o0, o1, o2;
+    for (int t = 0; t < 60; ++t) {
+      const std::string want = outbox_text(o0, step(reference, d0, o0));
+      ASSERT_EQ(outbox_text(o1, step(by_restore, d1, o1)), want) << "tick " << reference.tick_index();
+      ASSERT_EQ(outbox_text(o2, step(by_reset, d2, o2)), want) << "tick " << reference.tick_index();
+    }
+  }
+  // A full checkpoint still refuses other interest settings in restore mode: its baselines would not fit.
+  Match other(small_battle(), fast_interest(config), "o");
+  EXPECT_THROW(other.restore_checkpoint(full), CheckpointError);
+}
+
 TEST(MatchCheckpoint, VersionOneStillRestoresIntoTheSameConfig) {
   // Logs of earlier builds hold version 1 keyframes.
   const MatchConfig config = test::small_config();

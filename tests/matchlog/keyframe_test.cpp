@@ -8,6 +8,9 @@
 #include <chrono>
 #include <thread>
 
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
 #include "matchlog/checkpoint_v1.h"
 #include "matchlog_test_util.h"
 #include "throng/match/checkpoint_diff.h"
@@ -333,6 +336,60 @@ TEST(Keyframes, PlaySeekKeepsTheServersSnapshotsByteForByte) {
     ASSERT_GT(seeker.outbox().snapshot_count, 0u);
     test::expect_same_snapshots(seeker.outbox(), stepper.outbox());
   }
+}
+
+TEST(Keyframes, KeyframesWithoutBaselinesSeekVerifyAndSaySo) {
+  // The server's default keyframes (no snapshot baselines): smaller, the header says so, verify
+  // passes in both interest modes without a note, and play's seek reaches exactly the stepped
+  // world and match state; only its snapshot baselines start afresh at the keyframe.
+  const auto& p = played();
+  const auto full_path = keyframed_log("kf-full.tlog");  // test_dir() empties the folder: once
+  const auto path = full_path.parent_path() / "kf-lean.tlog";
+  test::write_played(path, p.ticks, test::match_header(), {}, 0, &p.lean_keyframes);
+  MatchLogReader full(full_path.string()), reader(path.string());
+  EXPECT_TRUE(full.header().writer.keyframe_snapshot_baselines);
+  EXPECT_FALSE(reader.header().writer.keyframe_snapshot_baselines);
+  ASSERT_EQ(reader.scan().keyframes.size(), 3u);
+  EXPECT_LT(reader.scan().keyframe_raw_bytes, full.scan().keyframe_raw_bytes);
+  for (bool exact : {true, false}) {
+    for (unsigned jobs : {1u, 2u}) {
+      SCOPED_TRACE(fmt::format("exact {} jobs {}", exact, jobs));
+      ResimOptions o;
+      o.exact_interest = exact;
+      const VerifyResult v = verify_log(reader, {}, 30, o, jobs);
+      EXPECT_TRUE(v.all_match()) << v.diff_note;
+      EXPECT_TRUE(v.keyframe_note.empty()) << v.keyframe_note;
+      EXPECT_EQ(v.keyframes_checked, 3u);
+    }
+  }
+  LogPlayer seeker(path.string());  // play's settings
+  LogPlayer stepper(path.string());
+  const SeekResult r = seeker.seek(133);
+  ASSERT_EQ(r.keyframe_tick, 120u);
+  EXPECT_EQ(r.hash_mismatches, 0u);
+  while (stepper.tick() < 133) ASSERT_TRUE(stepper.step());
+  const Bytes a = checkpoint_of(seeker.match()), b = checkpoint_of(stepper.match());
+  const match::CheckpointSections sa = match::checkpoint_sections(a), sb = match::checkpoint_sections(b);
+  EXPECT_TRUE(std::equal(sa.world.begin(), sa.world.end(), sb.world.begin(), sb.world.end()));
+  EXPECT_TRUE(std::equal(sa.match_state.begin(), sa.match_state.end(), sb.match_state.begin(), sb.match_state.end()));
+  for (int i = 0; i < 5; ++i) {
+    ASSERT_TRUE(seeker.step());
+    ASSERT_TRUE(stepper.step());
+    EXPECT_EQ(seeker.match().state_hash(), stepper.match().state_hash());
+    ASSERT_EQ(seeker.outbox().snapshot_count, stepper.outbox().snapshot_count);  // every client still served
+  }
+}
+
+TEST(Keyframes, HeaderSaysWhetherKeyframesHoldBaselinesAndOlderHeadersDid) {
+  LogHeader h = test::match_header();
+  h.writer.keyframe_snapshot_baselines = false;
+  const std::string text = header_to_json_text(h);
+  EXPECT_FALSE(header_from_json_text(text).writer.keyframe_snapshot_baselines);
+  nlohmann::json j = nlohmann::json::parse(text);
+  j["writer"].erase("keyframe_snapshot_baselines");  // written before keyframes could leave them out
+  EXPECT_TRUE(header_from_json_text(j.dump()).writer.keyframe_snapshot_baselines);
+  j["writer"]["keyframe_snapshot_baselines"] = 1;
+  EXPECT_THROW(header_from_json_text(j.dump()), LogError);
 }
 
 TEST(Keyframes, VersionOneKeyframesOfEarlierBuildsStillSeekAndVerify) {

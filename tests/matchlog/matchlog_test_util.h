@@ -201,6 +201,8 @@ struct PlayedMatch {
   // Match::save_checkpoint() after every 15th tick (what the server hands to append_keyframe);
   // keyframes[k] is the checkpoint after tick 15 * (k + 1).
   std::vector<std::vector<std::uint8_t>> keyframes;
+  // The same checkpoints without their snapshot baselines (the server's keyframes by default).
+  std::vector<std::vector<std::uint8_t>> lean_keyframes;
   std::uint64_t commands_accepted = 0, commands_rejected = 0, joins_accepted = 0;
 };
 
@@ -292,6 +294,8 @@ inline PlayedMatch play_match(std::uint64_t ticks = 200, const scene::SceneDef& 
     if (t % 15 == 0) {
       played.keyframes.emplace_back();
       m.save_checkpoint(played.keyframes.back());
+      played.lean_keyframes.emplace_back();
+      m.save_checkpoint(played.lean_keyframes.back(), match::SaveOptions{.snapshot_baselines = false});
     }
   }
   return played;
@@ -315,6 +319,9 @@ inline void write_played(const std::filesystem::path& path, const std::vector<Ti
   // A test appends a whole match within a millisecond, the server one keyframe per ~2 s: room for
   // all of them (Keyframes.WriterBehindDropsKeyframesLoudlyNotTicks tests the full case itself).
   if (keyframes != nullptr) options.keyframe_slots = std::max<std::uint32_t>(options.keyframe_slots, 64);
+  // The header says what the keyframes hold, as the server's does.
+  if (keyframes != nullptr && !keyframes->empty())
+    options.keyframe_snapshot_baselines = !match::checkpoint_sections(keyframes->front()).snapshot_baselines.empty();
   MatchLogWriter w(path.string(), options);
   w.begin(header);
   const std::uint64_t every = w.keyframe_interval_ticks();

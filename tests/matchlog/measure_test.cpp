@@ -86,7 +86,7 @@ TEST(Measure, DISABLED_BattleLogSizeAppendTimeAndVerifySpeed) {
     append_us.push_back(std::chrono::duration<double, std::micro>(t2 - t1).count());
     if (r.tick % w.keyframe_interval_ticks() == 0) {  // what the server does after the tick
       const auto k0 = Clock::now();
-      m.save_checkpoint(checkpoint);
+      m.save_checkpoint(checkpoint, match::SaveOptions{.snapshot_baselines = w.options().keyframe_snapshot_baselines});
       const auto k1 = Clock::now();
       w.append_keyframe_swap(r.tick, checkpoint);  // as the server does
       const auto k2 = Clock::now();
@@ -122,6 +122,16 @@ TEST(Measure, DISABLED_BattleLogSizeAppendTimeAndVerifySpeed) {
                 ws.keyframes_written ? static_cast<double>(ws.keyframe_bytes) / static_cast<double>(ws.keyframes_written) : 0.0,
                 ws.keyframes_written ? static_cast<double>(ws.keyframe_raw_bytes) / static_cast<double>(ws.keyframes_written) : 0.0,
                 static_cast<double>(ws.keyframe_bytes) / static_cast<double>(ticks));
+  {
+    // What a keyframe is made of (the server leaves the baselines out unless --log-baselines).
+    std::vector<std::uint8_t> full;
+    m.save_checkpoint(full);
+    const match::CheckpointSections sec = match::checkpoint_sections(full);
+    std::printf("checkpoint sections at the last tick: world %zu, match %zu, snapshot baselines %zu bytes "
+                "(keyframes %s the baselines)\n",
+                sec.world.size(), sec.match_state.size(), sec.snapshot_baselines.size(),
+                w.options().keyframe_snapshot_baselines ? "keep" : "leave out");
+  }
   std::printf("bytes per tick (tick-block records incl. framing; whole file / ticks in brackets):\n");
   std::printf("  block_ticks  zstd_level  bytes/tick\n");
   for (std::uint32_t block : {1u, 5u, 15u, 30u}) {

@@ -58,6 +58,13 @@ TEST(ServerProcess, SigtermEndsTheMatchGracefully) {
                     dir / "seek.txt", dir / "seek.err");
   EXPECT_EQ(seek.wait(60s), 0) << read_file(dir / "seek.txt") << read_file(dir / "seek.err");
   EXPECT_NE(read_file(dir / "seek.txt").find("from the keyframe of tick 60"), std::string::npos) << read_file(dir / "seek.txt");
+  // By default the keyframes leave the snapshot baselines out, and the header says so.
+  ChildProcess info(std::string(THRONG_BIN_DIR) + "/throng-replay", {"info", (dir / "match.tlog").string(), "--json"},
+                    dir / "info.json", dir / "info.err");
+  ASSERT_EQ(info.wait(30s), 0) << read_file(dir / "info.err");
+  const auto ij = nlohmann::json::parse(read_file(dir / "info.json"));
+  EXPECT_FALSE(ij.at("keyframe_snapshot_baselines").get<bool>()) << ij.dump();
+  EXPECT_GE(ij.at("keyframes").get<int>(), 1) << ij.dump();
 }
 
 // --log-format json: every stderr line is one JSON object naming the match (log collectors index
@@ -133,6 +140,8 @@ TEST(ServerProcess, BadCommandLinesAreRejectedWithAClearMessage) {
       {{"--end-when-empty", "nan"}, "--end-when-empty"},
       {{"--end-when-empty", "-1"}, "--end-when-empty"},
       {{"--end-when-routed", "inf"}, "--end-when-routed"},
+      {{"--log-keyframe-ticks", "-1"}, "--log-keyframe-ticks"},
+      {{"--log-keyframe-ticks", "200000"}, "--log-keyframe-ticks"},
       {{"--listen", "tcp://0.0.0.0"}, "host and port are both needed"},
       {{"--listen", "udp://0.0.0.0:7400"}, "must start with tcp://"},
       {{"--public-address", "10.0.0.1"}, "needs --listen"},

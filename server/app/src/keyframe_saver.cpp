@@ -12,7 +12,8 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 }  // namespace
 
-KeyframeSaver::KeyframeSaver() : thread_([this] { run(); }) {}
+KeyframeSaver::KeyframeSaver(bool with_snapshot_baselines)
+    : with_snapshot_baselines_(with_snapshot_baselines), thread_([this] { run(); }) {}
 
 KeyframeSaver::~KeyframeSaver() {
   {
@@ -64,7 +65,7 @@ void KeyframeSaver::run() {
     const auto t0 = Clock::now();
     std::exception_ptr err;
     try {
-      m->save_checkpoint(buffer_);
+      m->save_checkpoint(buffer_, match::SaveOptions{.snapshot_baselines = with_snapshot_baselines_});
     } catch (...) {
       err = std::current_exception();
     }

@@ -100,7 +100,7 @@ struct MatchServer::Impl {
   // World keyframes for the log: every keyframe interval the saver thread checkpoints the match
   // while the tick thread publishes and sleeps; the next tick (or shutdown) collects the bytes and
   // hands them to the writer (buffers swapped, not copied) before the match changes again.
-  KeyframeSaver keyframe_saver;
+  KeyframeSaver keyframe_saver{options.log_baselines};
   DurationStats keyframe_save, keyframe_wait, keyframe_append;
 
   match::Outbox outbox;
@@ -164,7 +164,10 @@ struct MatchServer::Impl {
     if (!o.log_file.empty()) {
       const std::string path =
           o.log_file == "auto" ? o.log_dir + "/" + match.match_info().match_id + ".tlog" : o.log_file;
-      log = std::make_unique<matchlog::MatchLogWriter>(path);
+      matchlog::WriterOptions wo;
+      wo.keyframe_snapshot_baselines = o.log_baselines;
+      wo.keyframe_interval_ticks = o.log_keyframe_ticks;
+      log = std::make_unique<matchlog::MatchLogWriter>(path, wo);
       matchlog::LogHeader h;
       h.match_id = match.match_info().match_id;
       h.scene = scene;

@@ -170,7 +170,10 @@ const std::array<std::uint64_t, kRejectReasonCount>& Match::rejected_by_reason()
 std::uint64_t Match::commands_accepted_total() const { return impl_->accepted_total; }
 const MatchConfig& Match::config() const { return impl_->config; }
 const World& Match::world() const { return impl_->world(); }
-void Match::save_checkpoint(std::vector<std::uint8_t>& out) const { impl_->save_checkpoint(out); }
+void Match::save_checkpoint(std::vector<std::uint8_t>& out) const { impl_->save_checkpoint(out, SaveOptions{}); }
+void Match::save_checkpoint(std::vector<std::uint8_t>& out, SaveOptions options) const {
+  impl_->save_checkpoint(out, options);
+}
 void Match::restore_checkpoint(std::span<const std::uint8_t> bytes) { restore_checkpoint(bytes, RestoreOptions{}); }
 
 }  // namespace throng::match

@@ -215,7 +215,7 @@ void Match::Impl::compute_checkpoint_hashes() {
   config_hash = config_hashes(config).sim;
 }
 
-void Match::Impl::save_checkpoint(std::vector<std::uint8_t>& out) const {
+void Match::Impl::save_checkpoint(std::vector<std::uint8_t>& out, SaveOptions options) const {
   ByteWriter w(out, ByteWriter::kOverwrite);  // = cleared first, without re-zeroing the bytes
   w.put(kMagic);
   w.put(kVersion);
@@ -260,7 +260,7 @@ void Match::Impl::save_checkpoint(std::vector<std::uint8_t>& out) const {
 
   len_at = w.size();
   w.put(std::uint32_t{0});
-  snapshots.save_state(w);
+  if (options.snapshot_baselines) snapshots.save_state(w);  // else empty: SnapshotBuilder::save_state never is
   close_section();
   w.finish();
 }
@@ -272,9 +272,11 @@ namespace {
 // only then commits), then commits the rest: a bad checkpoint leaves the match unchanged.
 template <class Impl>
 void restore_match(Impl& m, std::span<const std::uint8_t> bytes, RestoreOptions options) {
-  const bool keep_baselines = options.snapshot_baselines == SnapshotBaselines::restore;
   ByteReader header(bytes);
   const Layout l = read_layout(header);
+  // A checkpoint saved without baselines (an empty snapshot section) restores as with reset.
+  const bool saved_baselines = l.version == 1 || !l.snapshots.empty();
+  const bool keep_baselines = options.snapshot_baselines == SnapshotBaselines::restore && saved_baselines;
   const std::size_t my_n = m.world().body_count();
   if (l.bodies != my_n) {
     throw CheckpointError("checkpoint is from another scene: it has " + std::to_string(l.bodies) + " bodies, this match " +

@@ -70,7 +70,7 @@ struct Match::Impl {
   void follow_dense_order();
 
   // --- checkpoints (match_checkpoint.cpp) ---------------------------------------------------------
-  void save_checkpoint(std::vector<std::uint8_t>& out) const;
+  void save_checkpoint(std::vector<std::uint8_t>& out, SaveOptions options) const;
   void compute_checkpoint_hashes();
 
   MatchConfig config;

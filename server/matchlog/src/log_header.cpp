@@ -141,6 +141,7 @@ std::string header_to_json_text(const LogHeader& h) {
   w["fsync_interval_ms"] = h.writer.fsync_interval_ms;
   w["zstd_level"] = h.writer.zstd_level;
   w["keyframe_interval_ticks"] = h.writer.keyframe_interval_ticks;
+  w["keyframe_snapshot_baselines"] = h.writer.keyframe_snapshot_baselines;
   j["writer"] = w;
   j["config"] = config_to_json(h.config);
   j["scene"] = scene_json;
@@ -170,6 +171,8 @@ LogHeader header_from_json_text(const std::string& text) {
   h.writer.zstd_level = get<int>(w, "zstd_level", "writer.");
   if (w.contains("keyframe_interval_ticks"))  // absent in format version 1
     h.writer.keyframe_interval_ticks = get<std::uint32_t>(w, "keyframe_interval_ticks", "writer.");
+  if (w.contains("keyframe_snapshot_baselines"))  // absent before keyframes could leave them out
+    h.writer.keyframe_snapshot_baselines = get<bool>(w, "keyframe_snapshot_baselines", "writer.");
   h.config = config_from_json(field(j, "config", ""));
   if (get<std::uint32_t>(j, "tick_hz") != h.config.tick_hz) throw LogError("log header: tick_hz disagrees with config.tick_hz");
   h.scene_hash = parse_hex64(get<std::string>(j, "scene_hash"), "scene_hash");

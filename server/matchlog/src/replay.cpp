@@ -116,6 +116,7 @@ RangeOutcome verify_range(const MatchLogReader& reader, ResimOptions options, Ra
       options = options_for(options, logged);
     }
     const bool exact = options.exact_interest;
+    const bool keyframe_baselines = reader.header().writer.keyframe_snapshot_baselines;
     Resimulator sim(reader.header(), options);
     if (range.start > 0) sim.restore(logged);
     TickCursor cursor(reader);
@@ -145,7 +146,9 @@ RangeOutcome verify_range(const MatchLogReader& reader, ResimOptions options, Ra
       o.verified_through = tick;
       if (check_keyframes && next_kf < kfs.size() && kfs[next_kf].tick == tick) {
         reader.read_keyframe(kfs[next_kf], logged);
-        sim.match().save_checkpoint(mine);
+        // Baselines only where they are compared: with the logged interest settings, when the log's
+        // keyframes hold them.
+        sim.match().save_checkpoint(mine, match::SaveOptions{.snapshot_baselines = exact && keyframe_baselines});
         ++o.keyframes_checked;
         ++next_kf;
         // The world must be equal (bodies: pose, velocities, parameters, ...): a difference is a

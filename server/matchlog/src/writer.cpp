@@ -93,7 +93,7 @@ void MatchLogWriter::begin(LogHeader header) {
                              std::chrono::system_clock::now().time_since_epoch()).count();
   header.start_utc = format_utc_ms(header.start_unix_ms);
   header.writer = {opt_.block_ticks, opt_.index_interval_ticks, opt_.fsync_interval_ms, opt_.zstd_level,
-                   opt_.keyframe_interval_ticks};
+                   opt_.keyframe_interval_ticks, opt_.keyframe_snapshot_baselines};
   const std::string text = header_to_json_text(header);
 
   const std::filesystem::path p(path_);

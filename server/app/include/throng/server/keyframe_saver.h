@@ -30,7 +30,9 @@ class KeyframeSaver {
     double waited_seconds = 0.0;    // time finish() blocked the caller
   };
 
-  KeyframeSaver();
+  // with_snapshot_baselines: whether the keyframes keep the snapshot baselines (match::SaveOptions;
+  // the server's --log-baselines).
+  explicit KeyframeSaver(bool with_snapshot_baselines);
   ~KeyframeSaver();  // waits for a save in progress, then stops the thread
   KeyframeSaver(const KeyframeSaver&) = delete;
   KeyframeSaver& operator=(const KeyframeSaver&) = delete;
@@ -50,6 +52,7 @@ class KeyframeSaver {
   std::condition_variable cv_;
   const match::Match* match_ = nullptr;  // set while a save is requested or running
   std::uint64_t tick_ = 0;
+  const bool with_snapshot_baselines_;
   bool requested_ = false, done_ = false, stopping_ = false;
   bool pending_ = false;  // tick thread only: start() without finish()
   double save_seconds_ = 0.0;

@@ -29,6 +29,13 @@ struct ServerOptions {
   std::string log_level = "info";  // trace, debug, info, warn, error
   std::string log_format = "text"; // text or json (one object per line, for log collectors)
   std::string log_dir = "logs";    // where --log auto puts <match id>.tlog
+  // Keyframes in the match log keep the snapshot baselines: `throng-replay play` then publishes,
+  // from any seek on, byte for byte what the server sent. Off: keyframes are about a third the
+  // size with 50 clients; play after a seek starts every client's snapshots afresh.
+  bool log_baselines = false;
+  // A world keyframe every this many ticks (rounded up to the log's 15-tick blocks; 0 = none):
+  // a seek re-simulates up to this many ticks; keyframes are most of a log's size.
+  std::uint32_t log_keyframe_ticks = 60;
   std::uint32_t max_catchup_ticks = 3;
   // Parameter changes (ParamUpdate) are accepted only from operators. With --security, DDS access
   // control lets only identities with the operator permission write them; without it, nobody can

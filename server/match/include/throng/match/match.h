@@ -108,7 +108,8 @@ struct Outbox {
 // client's copy of every object it was sent: what its next snapshots contain depends on them).
 enum class SnapshotBaselines : std::uint8_t {
   // Restored: the checkpoint must come from a match with the same interest settings (checked), and
-  // the next snapshots are byte for byte those the saved match would have built.
+  // the next snapshots are byte for byte those the saved match would have built. A checkpoint
+  // saved without baselines (SaveOptions) has none to restore: it restores as with reset.
   restore,
   // Not read: every connected client starts from an empty baseline, as a client that has just
   // joined, under this match's own interest settings, which may differ from the saved match's
@@ -122,6 +123,15 @@ enum class SnapshotBaselines : std::uint8_t {
 
 struct RestoreOptions {
   SnapshotBaselines snapshot_baselines = SnapshotBaselines::restore;
+};
+
+struct SaveOptions {
+  // false: the snapshot section is left empty. Such a checkpoint restores in either
+  // SnapshotBaselines mode, into any interest settings, with every connected client starting from
+  // an empty baseline (as with reset). Why: with many clients the baselines are most of a
+  // checkpoint, and only a replay that must publish byte for byte what the server sent after a
+  // seek needs them (match log keyframes leave them out unless asked to).
+  bool snapshot_baselines = true;
 };
 
 // Where the sections of a checkpoint are (layout: server/match/src/CHECKPOINT.md), found from its
@@ -208,6 +218,7 @@ class Match {
   // reused, so a warm buffer does not allocate). const: safe beside other const readers, not
   // during tick().
   void save_checkpoint(std::vector<std::uint8_t>& out) const;
+  void save_checkpoint(std::vector<std::uint8_t>& out, SaveOptions options) const;
   // Replaces this match's simulation state with `bytes`, taken from a Match built from the same
   // scene and config. Afterwards tick() gives bit-identical results (state hashes, outbox,
   // snapshots) to the match the checkpoint was taken from. Throws CheckpointError for truncated or

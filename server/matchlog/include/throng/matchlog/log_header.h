@@ -17,6 +17,9 @@ struct WriterSettingsRecord {
   std::uint32_t fsync_interval_ms = 0;
   int zstd_level = 0;  // 0 = tick blocks stored raw
   std::uint32_t keyframe_interval_ticks = 0;  // v2; 0 = no keyframes (and every v1 log)
+  // Keyframes hold the snapshot baselines (absent in logs written before they could be left out,
+  // which always held them).
+  bool keyframe_snapshot_baselines = true;
 };
 
 struct LogHeader {

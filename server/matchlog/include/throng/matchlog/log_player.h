@@ -22,8 +22,10 @@ struct PlayerOptions {
   // exact_interest = true (default): snapshots are what play publishes, so the logged interest
   // settings are used, keyframes are restored whole (snapshot baselines included) and every tick
   // on the way to a seek's target builds its snapshots: from any seek on, the outbox holds byte for
-  // byte the snapshots the server built. A seek costs the keyframe restore plus up to a keyframe
-  // interval of full ticks.
+  // byte the snapshots the server built, when the keyframes hold the baselines (the server's
+  // --log-baselines; header().writer.keyframe_snapshot_baselines); without them every client's
+  // snapshots start from an empty baseline at the keyframe. A seek costs the keyframe restore plus
+  // up to a keyframe interval of full ticks.
   // false: for everything that reads the world, the match state and the hashes, not the logged
   // snapshot stream (throng-view --log, throng-replay seek): cheap interest settings, keyframes
   // restored without their snapshot baselines (match::SnapshotBaselines::reset). World, match

@@ -87,6 +87,9 @@ struct WriterOptions {
   // block_ticks; default = the index interval, ~2 s at 30 Hz). 0 = no keyframes.
   std::uint32_t keyframe_interval_ticks = 60;
   std::uint32_t keyframe_slots = 2;          // keyframes waiting for the writer thread; beyond: dropped
+  // Whether the caller's keyframes hold the snapshot baselines (match::SaveOptions), recorded in
+  // the header so `play` can say what a seek gives. The writer does not look inside keyframes.
+  bool keyframe_snapshot_baselines = false;
   // Tests only: sleep this long after every write, to simulate a slow disk. 0 in production.
   std::uint32_t test_write_delay_ms = 0;
 };
@@ -151,6 +154,7 @@ class MatchLogWriter {
   // allocate either. O(1) on the tick thread. Dropped: `checkpoint` is left as it was.
   void append_keyframe_swap(std::uint64_t tick, std::vector<std::uint8_t>& checkpoint);
   std::uint32_t keyframe_interval_ticks() const { return opt_.keyframe_interval_ticks; }  // after rounding
+  const WriterOptions& options() const { return opt_; }  // as used (intervals rounded)
 
   // Waits for the writer thread to write everything queued, then writes the final (partial) block,
   // the final index and the end record, fsyncs and closes the file. Idempotent. Throws LogError if
