@@ -15,9 +15,12 @@ namespace throng::matchlog::detail {
 
 inline void put_u8(std::vector<std::uint8_t>& o, std::uint8_t v) { o.push_back(v); }
 inline void put_u32(std::vector<std::uint8_t>& o, std::uint32_t v) {
-  const std::uint8_t b[4] = {static_cast<std::uint8_t>(v), static_cast<std::uint8_t>(v >> 8),
-                             static_cast<std::uint8_t>(v >> 16), static_cast<std::uint8_t>(v >> 24)};
-  o.insert(o.end(), b, b + 4);
+  // Four push_backs, not an insert of a 4-byte array: GCC 12 warns falsely (-Wstringop-overflow)
+  // about the insert into a vector it believes empty once this is inlined into small functions.
+  o.push_back(static_cast<std::uint8_t>(v));
+  o.push_back(static_cast<std::uint8_t>(v >> 8));
+  o.push_back(static_cast<std::uint8_t>(v >> 16));
+  o.push_back(static_cast<std::uint8_t>(v >> 24));
 }
 inline void put_u64(std::vector<std::uint8_t>& o, std::uint64_t v) {
   put_u32(o, static_cast<std::uint32_t>(v));
