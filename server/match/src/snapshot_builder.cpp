@@ -425,85 +425,38 @@ const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_
   return build(client_id, camera_x, camera_y, out, impl_->scratch);
 }
 
-const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_x, double camera_y,
-                                         protocol::Snapshot& out, Scratch& scratch) {
-  const Impl& m = *impl_;
-  Client* cp = m.find(client_id);
-  if (!cp) throw std::invalid_argument(fmt::format("SnapshotBuilder::build: unknown client {}", client_id));
-  if (!(std::fabs(camera_x) <= detail::kMaxCoordinateM))
-    throw std::invalid_argument(
-        fmt::format("SnapshotBuilder::build: camera_x {} is not a finite coordinate within 1e6 m", camera_x));
-  if (!(std::fabs(camera_y) <= detail::kMaxCoordinateM))
-    throw std::invalid_argument(
-        fmt::format("SnapshotBuilder::build: camera_y {} is not a finite coordinate within 1e6 m", camera_y));
-  if (!m.indexed) throw std::logic_error("SnapshotBuilder::build: index() was not called (or failed) before build()");
+// The frame one build() works in (origin, unit, radii, the client's stamp, the grid's arrays):
+// fixed before its first phase.
+struct Frame {
+  std::uint32_t stamp = 0;
+  std::uint32_t tick32 = 0;
+  bool whole = false;
+  std::uint16_t unit = 1;
+  double inv_unit = 1.0;
+  std::uint32_t repeat = 0, keepalive = 0, budget = 0;
+  double camera_x = 0.0, camera_y = 0.0, r = 0.0;
+  std::int64_t cam_mx = 0, cam_my = 0;  // camera, whole mm
+  std::int32_t ox = 0, oy = 0;          // origin, mm, a multiple of the unit
+  std::int64_t r2_mm = 0, rh2_mm = 0;   // radius and exit radius squared, mm^2
+  float near_scale = 0.0f;
+  const detail::SlotPose* gp = nullptr;
+  const double* gx = nullptr;
+  const double* gy = nullptr;
+  const double* gz = nullptr;
+  const std::int32_t* gzmm = nullptr;
+  const std::uint8_t* gyaw = nullptr;
+  ObjectState* obj = nullptr;
 
-  Client& c = *cp;
-  const detail::InterestGrid& g = m.grid;
-  Scratch::Impl& sc = *scratch.impl_;
-  sc.reserve(g.size());
-  BuildStats& st = sc.stats;
-  st = BuildStats{};
-
-  if (++c.stamp == 0) {  // wrapped after 2^32 builds: forget stale stamps
-    for (ObjectState& o : c.obj) o.seen = 0;
-    c.stamp = 1;
-  }
-  const std::uint32_t stamp = c.stamp;
-
-  const auto tick32 = static_cast<std::uint32_t>(m.tick);
-  const bool whole = config_.radius_m == 0.0;
-  const std::uint16_t unit = whole ? m.world_unit : m.radius_unit;
-  const double inv_unit = 1.0 / unit;
-  const std::uint32_t repeat = config_.removed_repeat;
-  const std::uint32_t keepalive = config_.keepalive_ticks;
-  const std::uint32_t budget = config_.budget_bytes;
-
-  // Distances are measured in whole millimetres (the camera and the bodies rounded to a mm):
-  // integer arithmetic, and at 1 mm the candidate test matches what the client decodes.
-  const auto cam_mx = static_cast<std::int64_t>(round_half_even(camera_x * 1000.0));
-  const auto cam_my = static_cast<std::int64_t>(round_half_even(camera_y * 1000.0));
-  // Origin: camera (or world centre) in mm, a multiple of the unit.
-  auto snap_mm = [&](double v_m) {
-    double mm = round_half_even(v_m * 1000.0);
-    if (unit > 1) mm = round_half_even(mm * inv_unit) * unit;
-    return static_cast<std::int32_t>(mm);
-  };
-  const double ref_x = whole ? 0.5 * (g.min_x() + g.max_x()) : camera_x;
-  const double ref_y = whole ? 0.5 * (g.min_y() + g.max_y()) : camera_y;
-  const std::int32_t ox = snap_mm(ref_x), oy = snap_mm(ref_y);
-
-  const double r = config_.radius_m;
-  const double r_mm = r * 1000.0, rh_mm = r_mm * config_.exit_hysteresis;
-  auto square_mm = [](double v) {  // saturates: no radius is larger than the coordinate range
-    const double q = std::floor(v * v);
-    return q >= 9.0e18 ? std::numeric_limits<std::int64_t>::max() : static_cast<std::int64_t>(q);
-  };
-  const std::int64_t r2_mm = whole ? std::numeric_limits<std::int64_t>::max() : square_mm(r_mm);
-  const std::int64_t rh2_mm = square_mm(rh_mm);
-  // w_near = 1 + 3 * (1 - d / R) = 4 - d * (3 / R); R = radius, or the world's half diagonal.
-  const double near_r_mm =
-      whole ? 1000.0 * std::max(1.0, 0.5 * std::hypot(g.max_x() - g.min_x(), g.max_y() - g.min_y())) : r_mm;
-  const auto near_scale = static_cast<float>(kNearWeight / near_r_mm);
-
-  const detail::SlotPose* gp = g.pose();
-  const double* gx = g.x();
-  const double* gy = g.y();
-  const double* gz = g.z();
-  const std::int32_t* gzmm = g.z_mm();
-  const std::uint8_t* gyaw = g.yaw_q();
-  ObjectState* obj = c.obj.data();
-
-  // The client's decoded position (mm) of slot s at this origin/unit; false if it does not fit.
-  // At 1 mm this is the body's position rounded to a mm (a candidate within radius <= 32 m of an
-  // origin at the camera always fits); coarser units round the exact value.
-  // The decoded height (mm) of slot s: absolute, clamped to the int16 range of the unit.
-  auto quantized_z = [&](std::uint32_t s) {
+  // The client's decoded height (mm) of slot s: absolute, clamped to the int16 range of the unit.
+  std::int32_t quantized_z(std::uint32_t s) const {
     if (unit == 1) return gp[s].z;  // clamped in the index
     const double fz = std::clamp(round_half_even(gz[s] * 1000.0 * inv_unit), -double(kMaxQ), double(kMaxQ));
     return static_cast<std::int32_t>(fz) * unit;
-  };
-  auto quantize = [&](std::uint32_t s, std::int32_t& qx, std::int32_t& qy, std::int32_t& qz) {
+  }
+  // The client's decoded position (mm) of slot s at this origin/unit; false if it does not fit.
+  // At 1 mm this is the body's position rounded to a mm (a candidate within radius <= 32 m of an
+  // origin at the camera always fits); coarser units round the exact value.
+  bool quantize(std::uint32_t s, std::int32_t& qx, std::int32_t& qy, std::int32_t& qz) const {
     qz = quantized_z(s);
     if (unit == 1) {
       qx = gp[s].x;
@@ -516,10 +469,23 @@ const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_
     qx = static_cast<std::int32_t>(ox + static_cast<std::int64_t>(std::clamp(fx, -40000.0, 40000.0)) * unit);
     qy = static_cast<std::int32_t>(oy + static_cast<std::int64_t>(std::clamp(fy, -40000.0, 40000.0)) * unit);
     return std::fabs(fx) <= kMaxQ && std::fabs(fy) <= kMaxQ;
-  };
-  auto near_weight = [&](std::int64_t d2) {
+  }
+  float near_weight(std::int64_t d2) const {
     return std::max(1.0f, (1.0f + kNearWeightF) - sqrt_nonneg(static_cast<float>(d2)) * near_scale);
-  };
+  }
+};
+
+// One build(): its frame and what the phases hand each other, each phase a method named as in the
+// file header. Everything it writes is the client's own state, the scratch and the snapshot.
+struct SnapshotBuilder::Build {
+  const Impl& m;
+  Client& c;
+  Scratch::Impl& sc;
+  protocol::Snapshot& out;
+  const detail::InterestGrid& g;
+  BuildStats& st;
+
+  Frame f;  // set once; the hot phases work on a local copy (a member could alias their stores)
 
   // Error statistics of known in-view objects that are not sent (those that are sent are added
   // when they are written, with their quantization error).
@@ -527,281 +493,394 @@ const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_
   float err_max = 0.0f;
   std::uint32_t err_count = 0;
 
-  // 1a. Candidate slots (and their object indices): grid runs, distance test on whole mm except
-  // in cells entirely inside. Branchless: every slot is written, the cursor advances only for
-  // those inside.
+  // What the phases hand on.
+  std::uint32_t n_cand = 0, n_keys = 0, skipped = 0, n_unknown = 0;
+  bool flat = true;
+  std::size_t n_removed = 0, pose_cap = 0, n_sel = 0, codes = 0;
+
+  Build(const SnapshotBuilder& b, Client& client, Scratch::Impl& scratch, double cx, double cy, protocol::Snapshot& o)
+      : m(*b.impl_), c(client), sc(scratch), out(o), g(m.grid), st(scratch.stats) {
+    sc.reserve(g.size());
+    st = BuildStats{};
+    set_frame(b.config_, cx, cy);
+  }
+
+  void set_frame(const InterestConfig& config, double cx, double cy);
+  void gather_candidates();                              // 1a
+  template <bool kUnitOne> void compare_with_copies();  // 1b
+  void key_changed();                                   // 1c
+  void key_unknown();                                   // 1d
+  void forget_left_behind();                            // 2
+  void plan_budget();                                   // 3: removals listed, pose cap
+  void select_poses();                                  // 3: the poses that fit, by id
+  void write_poses();                                   // 4
+  const BuildStats& finish();
+
+  void count_error(float e) {
+    ++err_count;
+    err_sum += e;
+    err_max = std::max(err_max, e);
+  }
+  std::uint32_t sel_id(std::size_t j) const { return static_cast<std::uint32_t>(sc.sel[j] >> 32); }
+  std::uint32_t sel_pos(std::size_t j) const { return static_cast<std::uint32_t>(sc.sel[j]); }
+  // Id codes of the selection as the encoder writes them (1 per id, 3 for an escape).
+  std::size_t count_codes() const {
+    std::size_t n = 0;
+    std::uint32_t previous = 0;
+    for (std::size_t j = 0; j < n_sel; ++j) {
+      n += id_codes_for(previous, sel_id(j));
+      previous = sel_id(j);
+    }
+    return n;
+  }
+  // Heights the wire carries for this many poses: one when the plan is flat.
+  std::size_t heights(std::size_t poses) const { return flat ? std::min<std::size_t>(poses, 1) : poses; }
+};
+
+void SnapshotBuilder::Build::set_frame(const InterestConfig& config, double cx, double cy) {
+  if (++c.stamp == 0) {  // wrapped after 2^32 builds: forget stale stamps
+    for (ObjectState& o : c.obj) o.seen = 0;
+    c.stamp = 1;
+  }
+  f.stamp = c.stamp;
+  f.tick32 = static_cast<std::uint32_t>(m.tick);
+  f.whole = config.radius_m == 0.0;
+  f.unit = f.whole ? m.world_unit : m.radius_unit;
+  f.inv_unit = 1.0 / f.unit;
+  f.repeat = config.removed_repeat;
+  f.keepalive = config.keepalive_ticks;
+  f.budget = config.budget_bytes;
+  f.camera_x = cx;
+  f.camera_y = cy;
+
+  // Distances are measured in whole millimetres (the camera and the bodies rounded to a mm):
+  // integer arithmetic, and at 1 mm the candidate test matches what the client decodes.
+  f.cam_mx = static_cast<std::int64_t>(round_half_even(f.camera_x * 1000.0));
+  f.cam_my = static_cast<std::int64_t>(round_half_even(f.camera_y * 1000.0));
+  // Origin: camera (or world centre) in mm, a multiple of the unit.
+  const auto snap_mm = [this](double v_m) {
+    double mm = round_half_even(v_m * 1000.0);
+    if (f.unit > 1) mm = round_half_even(mm * f.inv_unit) * f.unit;
+    return static_cast<std::int32_t>(mm);
+  };
+  const double ref_x = f.whole ? 0.5 * (g.min_x() + g.max_x()) : f.camera_x;
+  const double ref_y = f.whole ? 0.5 * (g.min_y() + g.max_y()) : f.camera_y;
+  f.ox = snap_mm(ref_x);
+  f.oy = snap_mm(ref_y);
+
+  f.r = config.radius_m;
+  const double r_mm = f.r * 1000.0, rh_mm = r_mm * config.exit_hysteresis;
+  const auto square_mm = [](double v) {  // saturates: no radius is larger than the coordinate range
+    const double q = std::floor(v * v);
+    return q >= 9.0e18 ? std::numeric_limits<std::int64_t>::max() : static_cast<std::int64_t>(q);
+  };
+  f.r2_mm = f.whole ? std::numeric_limits<std::int64_t>::max() : square_mm(r_mm);
+  f.rh2_mm = square_mm(rh_mm);
+  // w_near = 1 + 3 * (1 - d / R) = 4 - d * (3 / R); R = radius, or the world's half diagonal.
+  const double near_r_mm =
+      f.whole ? 1000.0 * std::max(1.0, 0.5 * std::hypot(g.max_x() - g.min_x(), g.max_y() - g.min_y())) : r_mm;
+  f.near_scale = static_cast<float>(kNearWeight / near_r_mm);
+
+  f.gp = g.pose();
+  f.gx = g.x();
+  f.gy = g.y();
+  f.gz = g.z();
+  f.gzmm = g.z_mm();
+  f.gyaw = g.yaw_q();
+  f.obj = c.obj.data();
+}
+
+// 1a. Candidate slots (and their object indices): grid runs, distance test on whole mm except in
+// cells entirely inside. Branchless: every slot is written, the cursor advances only for those
+// inside.
+void SnapshotBuilder::Build::gather_candidates() {
+  const Frame fr = f;
   std::uint32_t* const cslot = sc.cslot.data();
   std::uint32_t* const cobj = sc.cobj.data();
-  std::uint32_t n_cand = 0;
-  {
-    const std::int64_t l_cx = cam_mx, l_cy = cam_my, l_r2 = r2_mm;
-    auto all = [&](std::uint32_t first, std::uint32_t end) {
-      std::uint32_t n = n_cand;
-      for (std::uint32_t s = first; s < end; ++s, ++n) {
-        cslot[n] = s;
-        cobj[n] = (gp[s].id & ObjectId::kIndexMask) - 1u;
-      }
-      n_cand = n;
-    };
-    auto tested = [&](std::uint32_t first, std::uint32_t end) {
-      std::uint32_t n = n_cand;
-      for (std::uint32_t s = first; s < end; ++s) {
-        const detail::SlotPose p = gp[s];
-        const std::int64_t dx = p.x - l_cx, dy = p.y - l_cy;
-        cslot[n] = s;
-        cobj[n] = (p.id & ObjectId::kIndexMask) - 1u;
-        n += (dx * dx + dy * dy <= l_r2) ? 1u : 0u;
-      }
-      n_cand = n;
-    };
-    if (whole) {
-      all(0, g.size());
-    } else {
-      // The grid assigns cells on exact positions; 2 mm more radius covers the mm rounding of
-      // the bodies and the camera, and the inner cells are taken 2 mm smaller.
-      g.for_each_run(camera_x, camera_y, r + 0.002, r - 0.002,
-                     [&](std::uint32_t a, std::uint32_t b, std::uint32_t ia, std::uint32_t ib) {
-                       if (ia >= ib) {
-                         tested(a, b);
-                         return;
-                       }
-                       tested(a, ia);
-                       all(ia, ib);
-                       tested(ib, b);
-                     });
+  const detail::SlotPose* const l_gp = fr.gp;
+  const std::int64_t l_cx = fr.cam_mx, l_cy = fr.cam_my, l_r2 = fr.r2_mm;
+  std::uint32_t n_total = 0;
+  // Each run counts in a local (the stores into cslot/cobj are u32 like the running total, whose
+  // address the lambdas hold) and adds it at the end.
+  const auto all = [&](std::uint32_t first, std::uint32_t end) {
+    std::uint32_t n = n_total;
+    for (std::uint32_t s = first; s < end; ++s, ++n) {
+      cslot[n] = s;
+      cobj[n] = (l_gp[s].id & ObjectId::kIndexMask) - 1u;
     }
-    // The prefetch below reads kPrefetchAhead entries past the end: harmless index 0.
-    std::fill(cobj + n_cand, cobj + n_cand + kPrefetchAhead, 0u);
+    n_total = n;
+  };
+  const auto tested = [&](std::uint32_t first, std::uint32_t end) {
+    std::uint32_t n = n_total;
+    for (std::uint32_t s = first; s < end; ++s) {
+      const detail::SlotPose p = l_gp[s];
+      const std::int64_t dx = p.x - l_cx, dy = p.y - l_cy;
+      cslot[n] = s;
+      cobj[n] = (p.id & ObjectId::kIndexMask) - 1u;
+      n += (dx * dx + dy * dy <= l_r2) ? 1u : 0u;
+    }
+    n_total = n;
+  };
+  if (fr.whole) {
+    all(0, g.size());
+  } else {
+    // The grid assigns cells on exact positions; 2 mm more radius covers the mm rounding of the
+    // bodies and the camera, and the inner cells are taken 2 mm smaller.
+    g.for_each_run(fr.camera_x, fr.camera_y, fr.r + 0.002, fr.r - 0.002,
+                   [&](std::uint32_t a, std::uint32_t b, std::uint32_t ia, std::uint32_t ib) {
+                     if (ia >= ib) {
+                       tested(a, b);
+                       return;
+                     }
+                     tested(a, ia);
+                     all(ia, ib);
+                     tested(ib, b);
+                   });
   }
+  n_cand = n_total;
+  // The prefetch in 1b reads kPrefetchAhead entries past the end: harmless index 0.
+  std::fill(cobj + n_cand, cobj + n_cand + kPrefetchAhead, 0u);
+  st.in_view = n_cand;
+}
 
-  // 1b. Compare each candidate with the client's copy (records at scattered indices: the hot
-  // part, prefetched a few candidates ahead). Changed (or keepalive-due) ones go to the keyed
-  // arrays as integer differences; unknown ones wait for 1d.
-  KeyIn* const kin = sc.kin.data();
-  std::uint32_t* const unknown = sc.unknown.data();
-  std::uint32_t n_keys = 0, skipped = 0, n_unknown = 0;
-  auto compare = [&](auto unit_one) {
-    constexpr bool kUnitOne = decltype(unit_one)::value;
-    const detail::SlotPose* const l_pose = gp;
-    const std::uint8_t* const l_yaw = gyaw;
-    ObjectState* const l_obj = obj;
-    const std::uint32_t* const l_cslot = cslot;
-    const std::uint32_t* const l_cobj = cobj;
-    KeyIn* const l_kin = kin;
-    const std::int64_t l_cx = cam_mx, l_cy = cam_my;
-    const std::uint32_t l_stamp = stamp, l_tick = tick32, l_keepalive = keepalive, l_n = n_cand;
-    std::uint32_t nk = 0, sk = 0, nu = 0, ec = 0;
-    double esum = 0.0;
-    float emax = 0.0f;
-    for (std::uint32_t i = 0; i < l_n; ++i) {
-      __builtin_prefetch(&l_obj[l_cobj[i + kPrefetchAhead]], 1, 1);
-      const std::uint32_t s = l_cslot[i];
-      const detail::SlotPose& p = l_pose[s];
-      ObjectState& o = l_obj[l_cobj[i]];
-      o.seen = l_stamp;
-      const std::uint32_t age = l_tick - o.sent_tick;
-      const std::uint8_t dyaw = static_cast<std::uint8_t>(l_yaw[s] - o.yaw);
-      std::int32_t ex, ey, ez;  // truth (mm) - client copy
-      bool unchanged, fits = true;
-      KeyIn& k = l_kin[nk];  // written in place; kept only if the candidate is keyed
-      if constexpr (kUnitOne) {
+// 1b. Compare each candidate with the client's copy (records at scattered indices: the hot part,
+// prefetched a few candidates ahead). Changed (or keepalive-due) ones go to the keyed arrays as
+// integer differences; unknown ones wait for 1d. The loop works on local copies of everything it
+// reads, so the compiler keeps them in registers.
+template <bool kUnitOne>
+void SnapshotBuilder::Build::compare_with_copies() {
+  const Frame fr = f;
+  const detail::SlotPose* const l_pose = fr.gp;
+  const std::uint8_t* const l_yaw = fr.gyaw;
+  const std::int32_t* const l_zmm = fr.gzmm;
+  ObjectState* const l_obj = fr.obj;
+  const std::uint32_t* const l_cslot = sc.cslot.data();
+  const std::uint32_t* const l_cobj = sc.cobj.data();
+  KeyIn* const l_kin = sc.kin.data();
+  std::uint32_t* const l_unknown = sc.unknown.data();
+  const std::int64_t l_cx = fr.cam_mx, l_cy = fr.cam_my;
+  const std::uint32_t l_stamp = fr.stamp, l_tick = fr.tick32, l_keepalive = fr.keepalive, l_n = n_cand;
+  std::uint32_t nk = 0, sk = 0, nu = 0, ec = 0;
+  double esum = 0.0;
+  float emax = 0.0f;
+  for (std::uint32_t i = 0; i < l_n; ++i) {
+    __builtin_prefetch(&l_obj[l_cobj[i + kPrefetchAhead]], 1, 1);
+    const std::uint32_t s = l_cslot[i];
+    const detail::SlotPose& p = l_pose[s];
+    ObjectState& o = l_obj[l_cobj[i]];
+    o.seen = l_stamp;
+    const std::uint32_t age = l_tick - o.sent_tick;
+    const std::uint8_t dyaw = static_cast<std::uint8_t>(l_yaw[s] - o.yaw);
+    std::int32_t ex, ey, ez;  // truth (mm) - client copy
+    bool unchanged, fits = true;
+    KeyIn& k = l_kin[nk];  // written in place; kept only if the candidate is keyed
+    if constexpr (kUnitOne) {
 #if defined(__SSE2__) || defined(_M_X64)
-        // (x, y, z, id) of the truth minus the copy: all zero = same object, same position.
-        const __m128i d = _mm_sub_epi32(_mm_load_si128(reinterpret_cast<const __m128i*>(&p)),
-                                        _mm_load_si128(reinterpret_cast<const __m128i*>(&o)));
-        const int same = _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(d, _mm_setzero_si128())));
-        if (!(same & 8)) [[unlikely]] {  // another id: unknown to the client
-          unknown[nu++] = s;
-          continue;
-        }
-        unchanged = (same | (dyaw == 0 ? 16 : 0)) == 31;
-        _mm_store_si128(reinterpret_cast<__m128i*>(&k), d);
-        ex = k.ex;
-        ey = k.ey;
-        ez = k.ez;
-#else
-        if (o.id != p.id) [[unlikely]] {
-          unknown[nu++] = s;
-          continue;
-        }
-        ex = p.x - o.x;
-        ey = p.y - o.y;
-        ez = p.z - o.z;
-        unchanged = (ex | ey | ez | dyaw) == 0;
-#endif
-        // A height beyond the 1 mm range: the clamped copy is compared, the error is measured
-        // on the real height.
-        if (p.z == kMaxQ || p.z == -kMaxQ) [[unlikely]] ez = gzmm[s] - o.z;
-      } else {
-        if (o.id != p.id) [[unlikely]] {
-          unknown[nu++] = s;
-          continue;
-        }
-        ex = p.x - o.x;
-        ey = p.y - o.y;
-        ez = gzmm[s] - o.z;
-        std::int32_t qx, qy, qz;
-        fits = quantize(s, qx, qy, qz);
-        unchanged = qx == o.x && qy == o.y && qz == o.z && dyaw == 0;
-      }
-      if ((unchanged && age < l_keepalive) || !fits) [[unlikely]] {
-        // Not sent: only its error counts (0 for an unchanged object at 1 mm, unless its
-        // height is clamped). !fits: coarse unit only, cannot be sent from this origin.
-        sk += unchanged ? 1u : 0u;
-        ++ec;
-        if (kUnitOne && unchanged && ez == 0) continue;
-        const float e = error_m(ex, ey, ez);
-        esum += e;
-        emax = std::max(emax, e);
+      // (x, y, z, id) of the truth minus the copy: all zero = same object, same position.
+      const __m128i d = _mm_sub_epi32(_mm_load_si128(reinterpret_cast<const __m128i*>(&p)),
+                                      _mm_load_si128(reinterpret_cast<const __m128i*>(&o)));
+      const int same = _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(d, _mm_setzero_si128())));
+      if (!(same & 8)) [[unlikely]] {  // another id: unknown to the client
+        l_unknown[nu++] = s;
         continue;
       }
-      const std::int64_t dx = p.x - l_cx, dy = p.y - l_cy;
-      k.ex = ex;
-      k.ey = ey;
-      k.ez = ez;
-      k.id = p.id;
-      k.d2 = static_cast<float>(dx * dx + dy * dy);
-      k.yaw = dyaw < 128 ? dyaw : 256 - dyaw;  // steps along the shorter way round
-      k.age = static_cast<std::int32_t>(std::min<std::uint32_t>(age, 1u << 30));
-      k.slot = s;
-      ++nk;
+      unchanged = (same | (dyaw == 0 ? 16 : 0)) == 31;
+      _mm_store_si128(reinterpret_cast<__m128i*>(&k), d);
+      ex = k.ex;
+      ey = k.ey;
+      ez = k.ez;
+#else
+      if (o.id != p.id) [[unlikely]] {
+        l_unknown[nu++] = s;
+        continue;
+      }
+      ex = p.x - o.x;
+      ey = p.y - o.y;
+      ez = p.z - o.z;
+      unchanged = (ex | ey | ez | dyaw) == 0;
+#endif
+      // A height beyond the 1 mm range: the clamped copy is compared, the error is measured on
+      // the real height.
+      if (p.z == kMaxQ || p.z == -kMaxQ) [[unlikely]] ez = l_zmm[s] - o.z;
+    } else {
+      if (o.id != p.id) [[unlikely]] {
+        l_unknown[nu++] = s;
+        continue;
+      }
+      ex = p.x - o.x;
+      ey = p.y - o.y;
+      ez = l_zmm[s] - o.z;
+      std::int32_t qx, qy, qz;
+      fits = fr.quantize(s, qx, qy, qz);
+      unchanged = qx == o.x && qy == o.y && qz == o.z && dyaw == 0;
     }
-    n_keys = nk;
-    skipped = sk;
-    n_unknown = nu;
-    err_count += ec;
-    err_sum += esum;
-    err_max = std::max(err_max, emax);
-  };
-  if (unit == 1)
-    compare(std::true_type{});
-  else
-    compare(std::false_type{});
+    if ((unchanged && age < l_keepalive) || !fits) [[unlikely]] {
+      // Not sent: only its error counts (0 for an unchanged object at 1 mm, unless its height is
+      // clamped). !fits: coarse unit only, cannot be sent from this origin.
+      sk += unchanged ? 1u : 0u;
+      ++ec;
+      if (kUnitOne && unchanged && ez == 0) continue;
+      const float e = error_m(ex, ey, ez);
+      esum += e;
+      emax = std::max(emax, e);
+      continue;
+    }
+    const std::int64_t dx = p.x - l_cx, dy = p.y - l_cy;
+    k.ex = ex;
+    k.ey = ey;
+    k.ez = ez;
+    k.id = p.id;
+    k.d2 = static_cast<float>(dx * dx + dy * dy);
+    k.yaw = dyaw < 128 ? dyaw : 256 - dyaw;  // steps along the shorter way round
+    k.age = static_cast<std::int32_t>(std::min<std::uint32_t>(age, 1u << 30));
+    k.slot = s;
+    ++nk;
+  }
+  n_keys = nk;
+  skipped = sk;
+  n_unknown = nu;
+  err_count += ec;
+  err_sum += esum;
+  err_max = std::max(err_max, emax);
+  st.skipped_unchanged = skipped;
+}
 
-  // 1c. Priorities and keys of the changed candidates, four at a time (the same IEEE operations
-  // in the same order as the scalar tail, so the keys do not depend on the batching).
+// 1c. Priorities and keys of the changed candidates, four at a time (the same IEEE operations in
+// the same order as the scalar tail, so the keys do not depend on the batching).
+void SnapshotBuilder::Build::key_changed() {
+  const Frame fr = f;
+  const KeyIn* const kin = sc.kin.data();
   std::uint64_t* const kkey = sc.kkey.data();
   float* const kerr = sc.kerr.data();
-  {
-    const float l_near = near_scale;
-    std::uint32_t i = 0;
+  const float l_near = fr.near_scale;
+  const std::uint32_t nk = n_keys;  // local: the SSE stores below may alias anything
+  std::uint32_t i = 0;
 #if defined(__SSE2__) || defined(_M_X64)
-    const __m128 v_near = _mm_set1_ps(l_near), v_mm = _mm_set1_ps(0.001f), v_one = _mm_set1_ps(1.0f),
-                 v_w0 = _mm_set1_ps(1.0f + kNearWeightF), v_yaw = _mm_set1_ps(kYawMPerStepF),
-                 v_age = _mm_set1_ps(kAgePerTickF);
-    const __m128i v_ones = _mm_set1_epi32(-1);
-    for (; i + 4 <= n_keys; i += 4) {
-      // Transpose four records into (ex, ey, ez, id) and (d2, yaw, age, slot) lanes.
-      const auto* rec = reinterpret_cast<const __m128*>(kin + i);
-      __m128 a0 = _mm_load_ps(reinterpret_cast<const float*>(rec + 0)), a1 = _mm_load_ps(reinterpret_cast<const float*>(rec + 2)),
-             a2 = _mm_load_ps(reinterpret_cast<const float*>(rec + 4)), a3 = _mm_load_ps(reinterpret_cast<const float*>(rec + 6));
-      __m128 b0 = _mm_load_ps(reinterpret_cast<const float*>(rec + 1)), b1 = _mm_load_ps(reinterpret_cast<const float*>(rec + 3)),
-             b2 = _mm_load_ps(reinterpret_cast<const float*>(rec + 5)), b3 = _mm_load_ps(reinterpret_cast<const float*>(rec + 7));
-      _MM_TRANSPOSE4_PS(a0, a1, a2, a3);  // a0 = ex, a1 = ey, a2 = ez, a3 = id (as bits)
-      _MM_TRANSPOSE4_PS(b0, b1, b2, b3);  // b0 = d2, b1 = yaw, b2 = age
-      const __m128 fx = _mm_cvtepi32_ps(_mm_castps_si128(a0));
-      const __m128 fy = _mm_cvtepi32_ps(_mm_castps_si128(a1));
-      const __m128 fz = _mm_cvtepi32_ps(_mm_castps_si128(a2));
-      const __m128 e2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(fx, fx), _mm_mul_ps(fy, fy)), _mm_mul_ps(fz, fz));
-      const __m128 e = _mm_mul_ps(_mm_sqrt_ps(e2), v_mm);
-      const __m128 w = _mm_max_ps(v_one, _mm_sub_ps(v_w0, _mm_mul_ps(_mm_sqrt_ps(b0), v_near)));
-      const __m128 fyaw = _mm_cvtepi32_ps(_mm_castps_si128(b1));
-      const __m128 fage = _mm_cvtepi32_ps(_mm_castps_si128(b2));
-      const __m128 pri = _mm_add_ps(_mm_mul_ps(_mm_add_ps(e, _mm_mul_ps(fyaw, v_yaw)), w), _mm_mul_ps(v_age, fage));
-      _mm_storeu_ps(kerr + i, e);
-      const __m128i ids = _mm_xor_si128(_mm_castps_si128(a3), v_ones);
-      const __m128i bits = _mm_castps_si128(pri);
-      _mm_storeu_si128(reinterpret_cast<__m128i*>(kkey + i), _mm_unpacklo_epi32(ids, bits));
-      _mm_storeu_si128(reinterpret_cast<__m128i*>(kkey + i + 2), _mm_unpackhi_epi32(ids, bits));
-    }
+  const __m128 v_near = _mm_set1_ps(l_near), v_mm = _mm_set1_ps(0.001f), v_one = _mm_set1_ps(1.0f),
+               v_w0 = _mm_set1_ps(1.0f + kNearWeightF), v_yaw = _mm_set1_ps(kYawMPerStepF),
+               v_age = _mm_set1_ps(kAgePerTickF);
+  const __m128i v_ones = _mm_set1_epi32(-1);
+  for (; i + 4 <= nk; i += 4) {
+    // Transpose four records into (ex, ey, ez, id) and (d2, yaw, age, slot) lanes.
+    const auto* rec = reinterpret_cast<const __m128*>(kin + i);
+    __m128 a0 = _mm_load_ps(reinterpret_cast<const float*>(rec + 0)), a1 = _mm_load_ps(reinterpret_cast<const float*>(rec + 2)),
+           a2 = _mm_load_ps(reinterpret_cast<const float*>(rec + 4)), a3 = _mm_load_ps(reinterpret_cast<const float*>(rec + 6));
+    __m128 b0 = _mm_load_ps(reinterpret_cast<const float*>(rec + 1)), b1 = _mm_load_ps(reinterpret_cast<const float*>(rec + 3)),
+           b2 = _mm_load_ps(reinterpret_cast<const float*>(rec + 5)), b3 = _mm_load_ps(reinterpret_cast<const float*>(rec + 7));
+    _MM_TRANSPOSE4_PS(a0, a1, a2, a3);  // a0 = ex, a1 = ey, a2 = ez, a3 = id (as bits)
+    _MM_TRANSPOSE4_PS(b0, b1, b2, b3);  // b0 = d2, b1 = yaw, b2 = age
+    const __m128 fx = _mm_cvtepi32_ps(_mm_castps_si128(a0));
+    const __m128 fy = _mm_cvtepi32_ps(_mm_castps_si128(a1));
+    const __m128 fz = _mm_cvtepi32_ps(_mm_castps_si128(a2));
+    const __m128 e2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(fx, fx), _mm_mul_ps(fy, fy)), _mm_mul_ps(fz, fz));
+    const __m128 e = _mm_mul_ps(_mm_sqrt_ps(e2), v_mm);
+    const __m128 w = _mm_max_ps(v_one, _mm_sub_ps(v_w0, _mm_mul_ps(_mm_sqrt_ps(b0), v_near)));
+    const __m128 fyaw = _mm_cvtepi32_ps(_mm_castps_si128(b1));
+    const __m128 fage = _mm_cvtepi32_ps(_mm_castps_si128(b2));
+    const __m128 pri = _mm_add_ps(_mm_mul_ps(_mm_add_ps(e, _mm_mul_ps(fyaw, v_yaw)), w), _mm_mul_ps(v_age, fage));
+    _mm_storeu_ps(kerr + i, e);
+    const __m128i ids = _mm_xor_si128(_mm_castps_si128(a3), v_ones);
+    const __m128i bits = _mm_castps_si128(pri);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(kkey + i), _mm_unpacklo_epi32(ids, bits));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(kkey + i + 2), _mm_unpackhi_epi32(ids, bits));
+  }
 #endif
-    for (; i < n_keys; ++i) {
-      const KeyIn& k = kin[i];
-      const float e = error_m(k.ex, k.ey, k.ez);
-      const float w = std::max(1.0f, (1.0f + kNearWeightF) - sqrt_nonneg(k.d2) * l_near);
-      const float priority =
-          (e + static_cast<float>(k.yaw) * kYawMPerStepF) * w + kAgePerTickF * static_cast<float>(k.age);
-      kerr[i] = e;
-      kkey[i] = priority_key(priority, k.id);
-    }
+  for (; i < nk; ++i) {
+    const KeyIn& k = kin[i];
+    const float e = error_m(k.ex, k.ey, k.ez);
+    const float w = std::max(1.0f, (1.0f + kNearWeightF) - sqrt_nonneg(k.d2) * l_near);
+    const float priority = (e + static_cast<float>(k.yaw) * kYawMPerStepF) * w + kAgePerTickF * static_cast<float>(k.age);
+    kerr[i] = e;
+    kkey[i] = priority_key(priority, k.id);
   }
+}
 
-  // 1d. Candidates the client does not know (never sent, removed, or a new object at a recycled
-  // index): the highest priorities, nearest first.
-  for (std::uint32_t i = 0; i < n_unknown; ++i) {
+// 1d. Candidates the client does not know (never sent, removed, or a new object at a recycled
+// index): the highest priorities, nearest first.
+void SnapshotBuilder::Build::key_unknown() {
+  const Frame fr = f;
+  KeyIn* const kin = sc.kin.data();
+  std::uint64_t* const kkey = sc.kkey.data();
+  float* const kerr = sc.kerr.data();
+  const std::uint32_t* const unknown = sc.unknown.data();
+  // Local counts: the stores into kin below are u32 and could otherwise alias the members.
+  const std::uint32_t l_unknown = n_unknown;
+  std::uint32_t nk = n_keys;
+  for (std::uint32_t i = 0; i < l_unknown; ++i) {
     const std::uint32_t s = unknown[i];
-    const detail::SlotPose p = gp[s];
-    ObjectState& o = obj[(p.id & ObjectId::kIndexMask) - 1u];
-    if (o.id != 0 && repeat > 0) c.pending.push_back({o.id, repeat});  // the old object was destroyed
+    const detail::SlotPose p = fr.gp[s];
+    ObjectState& o = fr.obj[(p.id & ObjectId::kIndexMask) - 1u];
+    if (o.id != 0 && fr.repeat > 0) c.pending.push_back({o.id, fr.repeat});  // the old object was destroyed
     o = ObjectState{};
-    o.seen = stamp;
+    o.seen = fr.stamp;
     std::int32_t qx, qy, qz;
-    if (!quantize(s, qx, qy, qz)) continue;
-    const std::int64_t dx = p.x - cam_mx, dy = p.y - cam_my;
-    kin[n_keys].slot = s;
-    kerr[n_keys] = -1.0f;
-    kkey[n_keys] = priority_key(kUnknownPriorityF * near_weight(dx * dx + dy * dy), p.id);
-    ++n_keys;
+    if (!fr.quantize(s, qx, qy, qz)) continue;
+    const std::int64_t dx = p.x - fr.cam_mx, dy = p.y - fr.cam_my;
+    kin[nk].slot = s;
+    kerr[nk] = -1.0f;
+    kkey[nk] = priority_key(kUnknownPriorityF * fr.near_weight(dx * dx + dy * dy), p.id);
+    ++nk;
   }
-  st.in_view = n_cand;
-  st.skipped_unchanged = skipped;
+  n_keys = nk;
+}
 
-  // 2. Known objects that are gone or beyond the hysteresis radius.
-  {
-    std::size_t w = 0;
-    KnownEntry* const known = c.known.data();
-    const std::size_t n_known = c.known.size();
-    for (std::size_t i = 0; i < n_known; ++i) {
-      const KnownEntry e = known[i];
-      ObjectState& o = obj[e.index];
-      if (o.id == e.id && o.seen == stamp) [[likely]] {  // a candidate: in view
-        known[w++] = e;
-        continue;
-      }
-      if (o.id != e.id) continue;  // replaced at this index (removal already queued)
-      bool keep = false;
-      {
-        const std::int32_t s = g.slot_of(e.index);
-        if (s >= 0 && gp[s].id == e.id) {
-          const std::int64_t dx = gp[s].x - cam_mx, dy = gp[s].y - cam_my;
-          keep = whole || dx * dx + dy * dy <= rh2_mm;
-        }
-      }
-      if (keep) {
-        known[w++] = e;
-        continue;
-      }
-      if (repeat > 0) c.pending.push_back({e.id, repeat});
-      o = ObjectState{};
+// 2. Known objects that are gone or beyond the hysteresis radius.
+void SnapshotBuilder::Build::forget_left_behind() {
+  const Frame fr = f;
+  std::size_t w = 0;
+  KnownEntry* const known = c.known.data();
+  const std::size_t n_known = c.known.size();
+  for (std::size_t i = 0; i < n_known; ++i) {
+    const KnownEntry e = known[i];
+    ObjectState& o = fr.obj[e.index];
+    if (o.id == e.id && o.seen == fr.stamp) [[likely]] {  // a candidate: in view
+      known[w++] = e;
+      continue;
     }
-    c.known.resize(w);
+    if (o.id != e.id) continue;  // replaced at this index (removal already queued)
+    bool keep = false;
+    const std::int32_t s = g.slot_of(e.index);
+    if (s >= 0 && fr.gp[s].id == e.id) {
+      const std::int64_t dx = fr.gp[s].x - fr.cam_mx, dy = fr.gp[s].y - fr.cam_my;
+      keep = fr.whole || dx * dx + dy * dy <= fr.rh2_mm;
+    }
+    if (keep) {
+      known[w++] = e;
+      continue;
+    }
+    if (fr.repeat > 0) c.pending.push_back({e.id, fr.repeat});
+    o = ObjectState{};
   }
+  c.known.resize(w);
+}
 
-  // 3. Removals that fit, oldest first; each is listed in `repeat` snapshots in total.
-  // Flat: every keyed candidate has the same quantized height, so whatever is selected shares it
-  // and travels as one z (protocol::share_equal_heights): poses cost 7 bytes instead of 9, and the
-  // budget holds more of them. Otherwise the plan counts a z per pose (a selection that happens to
-  // share one height is still written shared, and is then smaller than planned).
-  bool flat = true;
-  if (budget > 0 && n_keys > 1) {
-    const std::int32_t z0 = quantized_z(kin[0].slot);
-    for (std::uint32_t i = 1; i < n_keys && flat; ++i) flat = quantized_z(kin[i].slot) == z0;
+// 3. Removals that fit, oldest first; each is listed in `repeat` snapshots in total.
+// Flat: every keyed candidate has the same quantized height, so whatever is selected shares it and
+// travels as one z (protocol::share_equal_heights): poses cost 7 bytes instead of 9, and the
+// budget holds more of them. Otherwise the plan counts a z per pose (a selection that happens to
+// share one height is still written shared, and is then smaller than planned).
+void SnapshotBuilder::Build::plan_budget() {
+  const Frame fr = f;
+  const KeyIn* const kin = sc.kin.data();
+  flat = true;
+  if (fr.budget > 0 && n_keys > 1) {
+    const std::int32_t z0 = fr.quantized_z(kin[0].slot);
+    for (std::uint32_t i = 1; i < n_keys && flat; ++i) flat = fr.quantized_z(kin[i].slot) == z0;
   }
-  auto heights = [flat](std::size_t poses) { return flat ? std::min<std::size_t>(poses, 1) : poses; };
-  std::size_t n_removed = c.pending.size();
-  std::size_t pose_cap = n_keys;
-  if (budget > 0) {
+  n_removed = c.pending.size();
+  pose_cap = n_keys;
+  if (fr.budget > 0) {
     const std::size_t base = wire_bytes(0, 0, 0, 0);
-    if (budget < base) {
+    if (fr.budget < base) {
       n_removed = 0;
       pose_cap = 0;
     } else {
-      n_removed = std::min(n_removed, (budget - base) / 4 + 1);
-      while (n_removed > 0 && wire_bytes(0, 0, n_removed, 0) > budget) --n_removed;
+      n_removed = std::min(n_removed, (fr.budget - base) / 4 + 1);
+      while (n_removed > 0 && wire_bytes(0, 0, n_removed, 0) > fr.budget) --n_removed;
       const std::size_t with_removed = wire_bytes(0, 0, n_removed, 0);
       const std::size_t per_pose = flat ? protocol::kSharedZPoseWireBytes : protocol::kPoseWireBytes;
-      pose_cap = std::min(pose_cap, (budget - with_removed) / per_pose + 1);
-      while (pose_cap > 0 && wire_bytes(pose_cap, pose_cap, n_removed, heights(pose_cap)) > budget) --pose_cap;
+      pose_cap = std::min(pose_cap, (fr.budget - with_removed) / per_pose + 1);
+      while (pose_cap > 0 && wire_bytes(pose_cap, pose_cap, n_removed, heights(pose_cap)) > fr.budget) --pose_cap;
     }
   }
   out.removed.resize(n_removed);
@@ -810,24 +889,31 @@ const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_
     --c.pending[i].left;
   }
   std::erase_if(c.pending, [](const PendingRemoval& p) { return p.left == 0; });
+}
 
-  // Poses: the largest keys that fit. Keys are unique (ids are), so "key >= the k-th largest"
-  // selects exactly k; the others' errors go to the statistics. The selection is kept as
-  // (id << 32 | position in the keyed arrays), sorted by id.
+// 3. Poses: the largest keys that fit. Keys are unique (ids are), so "key >= the k-th largest"
+// selects exactly k; the others' errors go to the statistics. The selection is kept as
+// (id << 32 | position in the keyed arrays), sorted by id.
+void SnapshotBuilder::Build::select_poses() {
+  const Frame fr = f;
   std::uint64_t* const sel = sc.sel.data();
+  const std::uint64_t* const kkey = sc.kkey.data();
+  const float* const kerr = sc.kerr.data();
   const std::size_t k = std::min(pose_cap, static_cast<std::size_t>(n_keys));
-  std::size_t n_sel = 0;
+  std::size_t ns = 0;  // local: the stores into sel are the same type as the member n_sel
   {
     std::uint64_t threshold = 0;
-    if (k < n_keys) threshold = k == 0 ? std::numeric_limits<std::uint64_t>::max() : kth_largest(kkey, n_keys, k, sc.hist.data(), sc.kth.data(), sc.kth2.data());
+    if (k < n_keys)
+      threshold = k == 0 ? std::numeric_limits<std::uint64_t>::max()
+                         : kth_largest(kkey, n_keys, k, sc.hist.data(), sc.kth.data(), sc.kth2.data());
     // Branch-free: which keys pass is data-dependent. Not sent and known: the error counts.
     // (k == 0: the threshold is above every key, a NaN priority being impossible.)
     std::uint32_t count = 0;
     float sum = 0.0f, emax = 0.0f;
     for (std::uint32_t i = 0; i < n_keys; ++i) {
       const auto take = static_cast<std::uint32_t>(kkey[i] >= threshold);
-      sel[n_sel] = static_cast<std::uint64_t>(key_id(kkey[i])) << 32 | i;
-      n_sel += take;
+      sel[ns] = static_cast<std::uint64_t>(key_id(kkey[i])) << 32 | i;
+      ns += take;
       // Error of a known object that is not sent, else -1 (as bits: all-ones mask selects -1).
       const std::uint32_t bits = (std::bit_cast<std::uint32_t>(kerr[i]) & (take - 1u)) |
                                  (std::bit_cast<std::uint32_t>(-1.0f) & (0u - take));
@@ -840,109 +926,136 @@ const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_
     err_sum += sum;
     err_max = std::max(err_max, emax);
   }
+  n_sel = ns;
   sort_by_id(sel, n_sel, sc.kth.data(), sc.hist.data());
-  auto sel_id = [&](std::size_t j) { return static_cast<std::uint32_t>(sel[j] >> 32); };
-  auto sel_pos = [&](std::size_t j) { return static_cast<std::uint32_t>(sel[j]); };
-  auto count_codes = [&] {
-    std::size_t codes = 0;
-    std::uint32_t previous = 0;
-    for (std::size_t j = 0; j < n_sel; ++j) {
-      codes += id_codes_for(previous, sel_id(j));
-      previous = sel_id(j);
-    }
-    return codes;
-  };
-  std::size_t codes = count_codes();
-  if (budget > 0) {
-    while (n_sel > 0 && wire_bytes(codes, n_sel, n_removed, heights(n_sel)) > budget) {
-      // Drop the lowest priority (rare: only when id escapes did not fit), then recount.
-      std::size_t lowest = 0;
-      for (std::size_t j = 1; j < n_sel; ++j)
-        if (kkey[sel_pos(j)] < kkey[sel_pos(lowest)]) lowest = j;
-      const float e = kerr[sel_pos(lowest)];
-      if (e >= 0.0f) {
-        ++err_count;
-        err_sum += e;
-        err_max = std::max(err_max, e);
-      }
-      std::copy(sel + lowest + 1, sel + n_sel, sel + lowest);
-      --n_sel;
-      codes = count_codes();
-    }
+  codes = count_codes();
+  if (fr.budget == 0) return;
+  while (n_sel > 0 && wire_bytes(codes, n_sel, n_removed, heights(n_sel)) > fr.budget) {
+    // Drop the lowest priority (rare: only when id escapes did not fit), then recount.
+    std::size_t lowest = 0;
+    for (std::size_t j = 1; j < n_sel; ++j)
+      if (kkey[sel_pos(j)] < kkey[sel_pos(lowest)]) lowest = j;
+    const float e = kerr[sel_pos(lowest)];
+    if (e >= 0.0f) count_error(e);
+    std::copy(sel + lowest + 1, sel + n_sel, sel + lowest);
+    --n_sel;
+    codes = count_codes();
   }
+}
 
-  // 4. Write the pose arrays and update the client's copies.
-  out.origin_x_mm = ox;
-  out.origin_y_mm = oy;
-  out.unit_mm = unit;
+// 4. Write the pose arrays and update the client's copies.
+void SnapshotBuilder::Build::write_poses() {
+  const Frame fr = f;
+  const KeyIn* const kin = sc.kin.data();
+  out.origin_x_mm = fr.ox;
+  out.origin_y_mm = fr.oy;
+  out.unit_mm = fr.unit;
   out.id_codes.resize(codes);
   out.x.resize(n_sel);
   out.y.resize(n_sel);
   out.z.resize(n_sel);
   out.yaw.resize(n_sel);
-  {
-    std::uint16_t* oc = out.id_codes.data();
-    std::int16_t* px = out.x.data();
-    std::int16_t* py = out.y.data();
-    std::int16_t* pz = out.z.data();
-    std::uint8_t* pyaw = out.yaw.data();
-    std::uint32_t previous = 0;
-    std::size_t ci = 0;
-    for (std::size_t i = 0; i < n_sel; ++i) {
-      const std::uint32_t id = sel_id(i);
-      const std::uint32_t s = kin[sel_pos(i)].slot;
-      const std::uint32_t idx = (id & ObjectId::kIndexMask) - 1u;
-      ObjectState& o = obj[idx];
-      std::int32_t qx, qy, qz;
-      if (!quantize(s, qx, qy, qz))  // selected candidates fit: checked when they were keyed
-        throw std::logic_error("SnapshotBuilder::build: a selected pose did not fit the quantization range");
-      if (o.id != id) c.known.push_back({idx, id});
-      o.id = id;
-      o.x = qx;
-      o.y = qy;
-      o.z = qz;
-      o.yaw = gyaw[s];
-      o.sent_tick = tick32;
-      const std::uint32_t delta = id - previous;
-      if (delta >= 1 && delta <= 0xFFFF) {
-        oc[ci++] = static_cast<std::uint16_t>(delta);
-      } else {
-        oc[ci++] = 0;
-        oc[ci++] = static_cast<std::uint16_t>(id >> 16);
-        oc[ci++] = static_cast<std::uint16_t>(id & 0xFFFF);
-      }
-      previous = id;
-      // What protocol::encode_poses writes for the decoded copy: the offsets are exact multiples
-      // of the unit (the origin is one), z too.
-      px[i] = static_cast<std::int16_t>((qx - ox) / unit);
-      py[i] = static_cast<std::int16_t>((qy - oy) / unit);
-      pz[i] = static_cast<std::int16_t>(qz / unit);
-      pyaw[i] = o.yaw;
-      // Error right after the update: the quantization (and a clamped height).
-      const detail::SlotPose p = gp[s];
-      const float e = error_m(p.x - qx, p.y - qy, gzmm[s] - qz);
-      ++err_count;
-      err_sum += e;
-      err_max = std::max(err_max, e);
+  std::uint16_t* oc = out.id_codes.data();
+  std::int16_t* px = out.x.data();
+  std::int16_t* py = out.y.data();
+  std::int16_t* pz = out.z.data();
+  std::uint8_t* pyaw = out.yaw.data();
+  std::uint32_t previous = 0;
+  std::size_t ci = 0;
+  // Local error sums (a running sum continued, so the additions happen in the same order).
+  std::uint32_t ec = 0;
+  double esum = err_sum;
+  float emax = err_max;
+  // Locals: the byte stores below may alias any member.
+  const std::uint64_t* const sel = sc.sel.data();
+  const std::size_t ns = n_sel;
+  for (std::size_t i = 0; i < ns; ++i) {
+    const auto id = static_cast<std::uint32_t>(sel[i] >> 32);
+    const std::uint32_t s = kin[static_cast<std::uint32_t>(sel[i])].slot;
+    const std::uint32_t idx = (id & ObjectId::kIndexMask) - 1u;
+    ObjectState& o = fr.obj[idx];
+    std::int32_t qx, qy, qz;
+    if (!fr.quantize(s, qx, qy, qz))  // selected candidates fit: checked when they were keyed
+      throw std::logic_error("SnapshotBuilder::build: a selected pose did not fit the quantization range");
+    if (o.id != id) c.known.push_back({idx, id});
+    o.id = id;
+    o.x = qx;
+    o.y = qy;
+    o.z = qz;
+    o.yaw = fr.gyaw[s];
+    o.sent_tick = fr.tick32;
+    const std::uint32_t delta = id - previous;
+    if (delta >= 1 && delta <= 0xFFFF) {
+      oc[ci++] = static_cast<std::uint16_t>(delta);
+    } else {
+      oc[ci++] = 0;
+      oc[ci++] = static_cast<std::uint16_t>(id >> 16);
+      oc[ci++] = static_cast<std::uint16_t>(id & 0xFFFF);
     }
+    previous = id;
+    // What protocol::encode_poses writes for the decoded copy: the offsets are exact multiples of
+    // the unit (the origin is one), z too.
+    px[i] = static_cast<std::int16_t>((qx - fr.ox) / fr.unit);
+    py[i] = static_cast<std::int16_t>((qy - fr.oy) / fr.unit);
+    pz[i] = static_cast<std::int16_t>(qz / fr.unit);
+    pyaw[i] = o.yaw;
+    // Error right after the update: the quantization (and a clamped height).
+    const detail::SlotPose p = fr.gp[s];
+    const float e = error_m(p.x - qx, p.y - qy, fr.gzmm[s] - qz);
+    ++ec;
+    esum += e;
+    emax = std::max(emax, e);
   }
+  err_count += ec;
+  err_sum = esum;
+  err_max = emax;
   protocol::share_equal_heights(out);  // as protocol::encode_poses ends
-  // A removal still pending for an id whose pose was just sent again would delete it on the
-  // client later: drop it (if it was listed in this snapshot, the client applies the removal
-  // before the poses).
+  // A removal still pending for an id whose pose was just sent again would delete it on the client
+  // later: drop it (if it was listed in this snapshot, the client applies the removal before the
+  // poses).
   if (!c.pending.empty() && n_sel > 0) {
     std::erase_if(c.pending, [&](const PendingRemoval& p) {
       const std::uint64_t* it = std::lower_bound(sel, sel + n_sel, static_cast<std::uint64_t>(p.id) << 32);
       return it != sel + n_sel && static_cast<std::uint32_t>(*it >> 32) == p.id;
     });
   }
-  if (budget > 0 && protocol::snapshot_wire_bytes(out) > budget)
+}
+
+const BuildStats& SnapshotBuilder::Build::finish() {
+  if (f.budget > 0 && protocol::snapshot_wire_bytes(out) > f.budget)
     throw std::logic_error("SnapshotBuilder::build: snapshot exceeds the byte budget (wire size model out of date)");
   out.objects_in_view = st.in_view;
   st.sent = static_cast<std::uint32_t>(n_sel);
   st.view_error_max_m = err_max;
   st.view_error_mean_m = err_count ? err_sum / err_count : 0.0;
   return st;
+}
+
+const BuildStats& SnapshotBuilder::build(std::uint32_t client_id, double camera_x, double camera_y,
+                                         protocol::Snapshot& out, Scratch& scratch) {
+  Client* c = impl_->find(client_id);
+  if (!c) throw std::invalid_argument(fmt::format("SnapshotBuilder::build: unknown client {}", client_id));
+  if (!(std::fabs(camera_x) <= detail::kMaxCoordinateM))
+    throw std::invalid_argument(
+        fmt::format("SnapshotBuilder::build: camera_x {} is not a finite coordinate within 1e6 m", camera_x));
+  if (!(std::fabs(camera_y) <= detail::kMaxCoordinateM))
+    throw std::invalid_argument(
+        fmt::format("SnapshotBuilder::build: camera_y {} is not a finite coordinate within 1e6 m", camera_y));
+  if (!impl_->indexed) throw std::logic_error("SnapshotBuilder::build: index() was not called (or failed) before build()");
+
+  Build b(*this, *c, *scratch.impl_, camera_x, camera_y, out);
+  b.gather_candidates();
+  if (b.f.unit == 1)
+    b.compare_with_copies<true>();
+  else
+    b.compare_with_copies<false>();
+  b.key_changed();
+  b.key_unknown();
+  b.forget_left_behind();
+  b.plan_budget();
+  b.select_poses();
+  b.write_poses();
+  return b.finish();
 }
 
 

@@ -149,6 +149,7 @@ class SnapshotBuilder {
 
  private:
   struct Impl;
+  struct Build;  // one build() call, phase by phase (snapshot_builder.cpp)
   InterestConfig config_;
   std::unique_ptr<Impl> impl_;
 };
