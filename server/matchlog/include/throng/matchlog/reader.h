@@ -103,6 +103,7 @@ class MatchLogReader {
   void decode_block(std::size_t index, std::vector<std::uint8_t>& raw) const;
 
  private:
+  struct Scan;  // the validating scan, record by record (reader_scan.cpp)
   void read_header();
   void scan_records();
   std::span<const std::uint8_t> bytes() const { return {data_, size_}; }
