@@ -67,10 +67,8 @@ std::string mmss(double seconds) {
   return fmt::format("{}:{:02}", s / 60, s % 60);
 }
 
-}  // namespace
-
-int run_log_view(const LogViewOptions& o, const std::atomic<bool>& stop) {
-  // The log first: a file that cannot be played is reported before a port is taken.
+// The log to play, checked: null (after saying why) when it cannot be played from --from.
+std::unique_ptr<matchlog::LogPlayer> open_player(const LogViewOptions& o) {
   std::unique_ptr<matchlog::LogPlayer> player;
   try {
     matchlog::PlayerOptions po;
@@ -81,121 +79,164 @@ int run_log_view(const LogViewOptions& o, const std::atomic<bool>& stop) {
     player = std::make_unique<matchlog::LogPlayer>(o.log, po);
   } catch (const std::exception& e) {
     fmt::print(stderr, "throng-view: cannot play {}: {}\n", o.log, e.what());
-    return 2;
+    return nullptr;
   }
   const std::uint64_t last = player->last_tick();
-  const std::uint32_t hz = player->tick_hz();
   if (last == 0) {
     fmt::print(stderr, "throng-view: cannot play {}: the log holds no complete tick\n", o.log);
-    return 2;
+    return nullptr;
   }
   if (o.from > last) {
     fmt::print(stderr, "throng-view: --from {} is beyond the log's last playable tick {}\n", o.from, last);
-    return 2;
+    return nullptr;
   }
   if (!player->scan().problem.empty())
     fmt::print(stderr, "throng-view: {}: {}; playing ticks 0..{}\n", o.log, player->scan().problem, last);
   if (!player->scan().scene_hash_matches)
     fmt::print(stderr, "throng-view: the log's scene re-serialises differently in this build: the replay may diverge\n");
+  return player;
+}
 
+// The replay loop: page commands in, the player stepped at the chosen speed, frames out. Each
+// step of a turn is a method.
+class LogViewLoop {
+ public:
+  LogViewLoop(const LogViewOptions& o, matchlog::LogPlayer& player, WebServer& web, CommandQueue& commands)
+      : o_(o), player_(player), web_(web), commands_(commands), last_(player.last_tick()), hz_(player.tick_hz()),
+        control_(LogTimeline{last_, hz_}, o.from, o.speed, !o.paused, Clock::now()) {}
+
+  void run(const std::atomic<bool>& stop) {
+    next_status_ = Clock::now() + 10s;
+    while (!stop.load()) {
+      apply_commands();
+      TimePoint now = Clock::now();
+      if (const auto seek = control_.take_seek()) now = seek_to(*seek);
+      step_to_target(now);
+      now = Clock::now();
+      show_frame(now);
+      report(now);
+    }
+  }
+
+ private:
+  // Frames: after the shown tick changes (at most ~45 a second, so 8x does not flood the page),
+  // and every 250 ms regardless, so a page that connects while paused gets one.
+  static constexpr auto kMinFrameGap = 22ms;
+  static constexpr auto kHeartbeat = 250ms;
+  static constexpr auto kStepBudget = 40ms;  // stepping per loop turn before the page hears from us again
+
+  std::string fields(bool seeking) const {
+    return control_.json_fields(player_.tick(), seeking) + fmt::format(R"(,"hash_ok":{})", player_.last_hash_matched());
+  }
+  void check_hash() {
+    if (warned_hash_ || player_.last_hash_matched()) return;
+    warned_hash_ = true;
+    fmt::print(stderr, "throng-view: tick {} re-simulates to a different state hash than the log recorded: "
+               "this build diverges from the one that played it; positions from here on may differ\n", player_.tick());
+  }
+
+  // Waits for the next tick due at this speed, a page command, or at least 50 ms; applies what came.
+  void apply_commands() {
+    const auto tick_period =
+        std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / (hz_ * control_.speed())));
+    const TimePoint wake_at =
+        Clock::now() + (control_.playing() ? std::clamp<Clock::duration>(tick_period, 2ms, 50ms) : Clock::duration(50ms));
+    const auto got = commands_.take(wake_at, errors_);
+    const TimePoint now = Clock::now();
+    for (const auto& c : got) {
+      if (c.kind == LogCommand::Kind::focus) {
+        focus_ = c.id;
+      } else if (c.kind == LogCommand::Kind::contacts) {
+        contacts_ = c.on ? std::optional<ContactsView>(ContactsView{c.camera_x, c.camera_y}) : std::nullopt;
+      } else {
+        control_.apply(c, now);
+      }
+      dirty_ = true;
+    }
+  }
+
+  // Blocks for the seek (the page shows "seeking..." meanwhile); its duration is not play time.
+  TimePoint seek_to(std::uint64_t tick) {
+    web_.broadcast(timeline_json(fields(true)));
+    const auto r = player_.seek(tick);
+    check_hash();
+    if (!o_.quiet && r.ms > 500)
+      fmt::print(stderr, "throng-view: seek to tick {} took {:.1f} s ({} ticks re-simulated)\n", r.tick, r.ms / 1000.0,
+                 r.ticks_simulated);
+    const TimePoint now = Clock::now();
+    control_.advance(now);
+    control_.reached(player_.tick());
+    dirty_ = true;
+    return now;
+  }
+
+  // Steps toward the tick due now, for at most kStepBudget.
+  void step_to_target(TimePoint now) {
+    const std::uint64_t target = control_.advance(now);
+    if (target < player_.tick()) player_.seek(target);  // cannot happen without a seek; stay correct anyway
+    const TimePoint step_until = now + kStepBudget;
+    while (player_.tick() < target && Clock::now() < step_until) {
+      if (!player_.step()) break;
+      check_hash();
+    }
+    control_.reached(player_.tick());
+  }
+
+  void show_frame(TimePoint now) {
+    const bool new_tick = player_.tick() != framed_tick_;
+    if (!(((new_tick || dirty_) && now - last_frame_ >= kMinFrameGap) || now - last_frame_ >= kHeartbeat)) return;
+    std::uint64_t errors_total = 0;
+    for (auto e : errors_) errors_total += e;
+    web_.broadcast(frames_.frame_json(player_.match(), fields(false), focus_, web_.sessions(), errors_total, contacts_));
+    framed_tick_ = player_.tick();
+    last_frame_ = now;
+    dirty_ = false;
+  }
+
+  void report(TimePoint now) {
+    report_rejections(errors_, reported_);
+    if (o_.quiet || now < next_status_) return;
+    next_status_ = now + 10s;
+    fmt::print(stderr, "throng-view: replay tick {}/{} ({} / {})  {}  {:g}x  pages {}\n", player_.tick(), last_,
+               mmss(static_cast<double>(player_.tick()) / hz_), mmss(static_cast<double>(last_) / hz_),
+               control_.playing() ? "playing" : "paused", control_.speed(), web_.sessions());
+  }
+
+  const LogViewOptions& o_;
+  matchlog::LogPlayer& player_;
+  WebServer& web_;
+  CommandQueue& commands_;
+  const std::uint64_t last_;
+  const std::uint32_t hz_;
+  LogController control_;
+  LogFrameBuilder frames_;
+  std::uint32_t focus_ = 0;
+  std::optional<ContactsView> contacts_;  // the overlay's camera while the page asks for contact pairs
+  std::array<std::uint64_t, kInputErrorCount> errors_{}, reported_{};
+  bool warned_hash_ = false;
+  TimePoint last_frame_{};
+  std::uint64_t framed_tick_ = ~0ull;
+  bool dirty_ = true;
+  TimePoint next_status_{};
+};
+
+}  // namespace
+
+int run_log_view(const LogViewOptions& o, const std::atomic<bool>& stop) {
+  // The log first: a file that cannot be played is reported before a port is taken.
+  const std::unique_ptr<matchlog::LogPlayer> player = open_player(o);
+  if (!player) return 2;
   CommandQueue commands;
   std::optional<WebServer> web;
   if (!open_page_server<LogCommand>(web, o.bind, o.port, o.web_root, parse_log_message, commands)) return 1;
   web->set_greeting(match_info_json(player->match().match_info(), "replay"));
+  const std::uint64_t last = player->last_tick();
   fmt::print(stderr, "throng-view: replay of {} (match {}, {} ticks at {} Hz, {})\n", o.log, player->header().match_id,
-             last, hz, mmss(static_cast<double>(last) / hz));
+             last, player->tick_hz(), mmss(static_cast<double>(last) / player->tick_hz()));
   fmt::print("view at http://{}:{}/\n", display_host(o.bind), web->port());
   std::fflush(stdout);
-
   if (o.from > 0) player->seek(o.from);
-  LogController control(LogTimeline{last, hz}, o.from, o.speed, !o.paused, Clock::now());
-  LogFrameBuilder frames;
-  std::uint32_t focus = 0;
-  std::optional<ContactsView> contacts;  // the overlay's camera while the page asks for contact pairs
-  std::array<std::uint64_t, kInputErrorCount> errors{}, reported{};
-  bool warned_hash = false;
-  // Frames: after the shown tick changes (at most ~45 a second, so 8x does not flood the page),
-  // and every 250 ms regardless, so a page that connects while paused gets one.
-  constexpr auto kMinFrameGap = 22ms;
-  constexpr auto kHeartbeat = 250ms;
-  constexpr auto kStepBudget = 40ms;  // stepping per loop turn before the page hears from us again
-  TimePoint last_frame{};
-  std::uint64_t framed_tick = ~0ull;
-  bool dirty = true;
-  TimePoint next_status = Clock::now() + 10s;
-
-  auto fields = [&](bool seeking) {
-    return control.json_fields(player->tick(), seeking) + fmt::format(R"(,"hash_ok":{})", player->last_hash_matched());
-  };
-  auto check_hash = [&] {
-    if (warned_hash || player->last_hash_matched()) return;
-    warned_hash = true;
-    fmt::print(stderr, "throng-view: tick {} re-simulates to a different state hash than the log recorded: "
-               "this build diverges from the one that played it; positions from here on may differ\n", player->tick());
-  };
-
-  while (!stop.load()) {
-    const TimePoint now0 = Clock::now();
-    // Wake for the next tick due at this speed, a page command, or at least every 50 ms.
-    const auto tick_period = std::chrono::duration_cast<Clock::duration>(
-        std::chrono::duration<double>(1.0 / (hz * control.speed())));
-    const TimePoint wake_at = now0 + (control.playing() ? std::clamp<Clock::duration>(tick_period, 2ms, 50ms) : Clock::duration(50ms));
-    const auto got = commands.take(wake_at, errors);
-    TimePoint now = Clock::now();
-    for (const auto& c : got) {
-      if (c.kind == LogCommand::Kind::focus) {
-        focus = c.id;
-      } else if (c.kind == LogCommand::Kind::contacts) {
-        contacts = c.on ? std::optional<ContactsView>(ContactsView{c.camera_x, c.camera_y}) : std::nullopt;
-      } else {
-        control.apply(c, now);
-      }
-      dirty = true;
-    }
-
-    if (const auto seek = control.take_seek()) {
-      web->broadcast(timeline_json(fields(true)));  // the page shows "seeking…" while we block
-      const auto r = player->seek(*seek);
-      check_hash();
-      if (!o.quiet && r.ms > 500)
-        fmt::print(stderr, "throng-view: seek to tick {} took {:.1f} s ({} ticks re-simulated)\n", r.tick, r.ms / 1000.0,
-                   r.ticks_simulated);
-      now = Clock::now();
-      control.advance(now);  // the seek's own duration is not play time
-      control.reached(player->tick());
-      dirty = true;
-    }
-
-    const std::uint64_t target = control.advance(now);
-    if (target < player->tick()) {  // cannot happen without a seek; stay correct anyway
-      player->seek(target);
-    }
-    const TimePoint step_until = now + kStepBudget;
-    while (player->tick() < target && Clock::now() < step_until) {
-      if (!player->step()) break;
-      check_hash();
-    }
-    control.reached(player->tick());
-
-    now = Clock::now();
-    const bool new_tick = player->tick() != framed_tick;
-    if (((new_tick || dirty) && now - last_frame >= kMinFrameGap) || now - last_frame >= kHeartbeat) {
-      std::uint64_t errors_total = 0;
-      for (auto e : errors) errors_total += e;
-      web->broadcast(frames.frame_json(player->match(), fields(false), focus, web->sessions(), errors_total, contacts));
-      framed_tick = player->tick();
-      last_frame = now;
-      dirty = false;
-    }
-
-    report_rejections(errors, reported);
-    if (!o.quiet && now >= next_status) {
-      next_status = now + 10s;
-      fmt::print(stderr, "throng-view: replay tick {}/{} ({} / {})  {}  {:g}x  pages {}\n", player->tick(), last,
-                 mmss(static_cast<double>(player->tick()) / hz), mmss(static_cast<double>(last) / hz),
-                 control.playing() ? "playing" : "paused", control.speed(), web->sessions());
-    }
-  }
+  LogViewLoop(o, *player, *web, commands).run(stop);
   web->stop();
   return 0;
 }
