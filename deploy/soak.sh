@@ -4,8 +4,9 @@
 # server's RSS, its tick p50/p99 over the last 10 s and overruns (from its progress line), and the
 # match log's size (/metrics), into soak.csv; at the end it draws soak.svg, verifies the log, and
 # prints one verdict line against the targets:
-#   RSS growth after the first 5 minutes < 1%; tick p99 of the last 10 minutes within 10% of the
-#   first 10; no snapshot gap at any bot; the log verifies.
+#   RSS growth after the first 5 minutes < 1%; tick p99 of the last 10 minutes at most 10% above
+#   the first 10 (a faster end is no failure: the first minutes include every bot's join); no
+#   snapshot gap at any bot; the log verifies.
 # Runs shorter than 30 minutes scale those windows to a twelfth (RSS baseline) and a sixth (p99)
 # of the run. Exit 0 when every target holds, 1 otherwise, 2 on a setup error.
 # Usage: deploy/soak.sh [MINUTES]   (env: BUILD=build/release, DOMAIN=62, OUT=dir, NPCS=6000)

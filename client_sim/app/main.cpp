@@ -1,5 +1,5 @@
 // throng-bots: connects N simulated clients to a running throng-server over the real client
-// path (DDS), drives them with a behaviour, and reports command-to-applied latency, snapshot
+// path (DDS), drives them with a behavior, and reports command-to-applied latency, snapshot
 // arrival/gaps, bandwidth and join times (human summary on stdout, JSON with --json). --ramp
 // finds the largest client count the server sustains.
 //
@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_option("--ramp-max", o.ramp_options.max_clients, "stop after this many bots")
       ->check(CLI::Range(1u, 100000u));
-  app.add_option("--seed", o.seed, "seed for nonces and behaviours (0: random)");
+  app.add_option("--seed", o.seed, "seed for nonces and behaviors (0: random)");
   app.add_option("--server-wait", o.server_wait_s, "seconds to wait for the server")->check(CLI::PositiveNumber);
   app.add_option("--join-timeout", o.join_timeout_s, "seconds a bot waits for its join reply")
       ->check(CLI::PositiveNumber);

@@ -140,7 +140,7 @@ class Bot::Sink final : public CommandSink {
     return out_.back();
   }
 
-  // After act(): the behaviour may have changed sequences, so record what actually goes out.
+  // After act(): the behavior may have changed sequences, so record what actually goes out.
   void commit() {
     for (std::size_t i = 0; i < expects_.size(); ++i)
       bot_.metrics_.on_command_sent(out_[first_ + i].sequence, expects_[i], now_);

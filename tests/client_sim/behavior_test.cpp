@@ -97,7 +97,7 @@ TEST(Behavior, HonestBehavioursSendOneValidCommandPerTick) {
       ASSERT_EQ(sink.commands.size(), before + 1) << name;
       expect_valid(sink.commands.back());
       EXPECT_EQ(sink.expects.back(), Expect::accept);
-      // Follow the intent a little so position-dependent behaviours progress.
+      // Follow the intent a little so position-dependent behaviors progress.
       f.self.x += sink.commands.back().move_x * 0.1;
       f.self.y += sink.commands.back().move_y * 0.1;
     }

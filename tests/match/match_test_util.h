@@ -34,7 +34,7 @@ inline scene::SceneDef two_armies(std::uint32_t per_side = 20, double gap_m = 30
     scene::SpawnGroup g;
     g.name = side == 0 ? "red" : "blue";
     g.count = per_side;
-    g.shape.kind = scene::ShapeKind::rect;
+    g.shape.kind = scene::SpawnAreaKind::rect;
     g.shape.centre = {side == 0 ? -gap_m / 2 : gap_m / 2, 0.0};
     g.shape.half_extents_m = {half_m, half_m};
     g.archetype = "infantry";

@@ -1,4 +1,4 @@
-// Behaviour names -> factories, and the --behavior spec ("wander", "nan,flood", "mix").
+// Behavior names -> factories, and the --behavior spec ("wander", "nan,flood", "mix").
 #include <stdexcept>
 #include <string>
 

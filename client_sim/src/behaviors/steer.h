@@ -1,5 +1,5 @@
 #pragma once
-// Small helpers shared by the behaviours.
+// Small helpers shared by the behaviors.
 #include <algorithm>
 #include <cmath>
 
@@ -25,7 +25,7 @@ inline Intent steer_to(const ObjectState& self, double tx, double ty, double spe
   return i;
 }
 
-// The simplest behaviour whose commands are all honest: one per tick from intent().
+// The simplest behavior whose commands are all honest: one per tick from intent().
 class Mover : public Behavior {
  public:
   void act(const BehaviorContext& ctx, CommandSink& out) override { out.emit(intent(ctx)); }

@@ -31,7 +31,7 @@ BENCHMARK(BM_ResidualOneCell)->RangeMultiplier(10)->Range(1'000, 100'000)->Unit(
 
 void BM_SpawnDisk(benchmark::State& state) {
   SpawnShape d;
-  d.kind = ShapeKind::disk;
+  d.kind = SpawnAreaKind::disk;
   d.radius_m = 50.0;
   for (auto _ : state) benchmark::DoNotOptimize(spawn_positions(d, std::uint32_t(state.range(0)), 1));
   state.SetItemsProcessed(state.iterations() * state.range(0));

@@ -33,7 +33,7 @@ StaticScenery thin_wall_scene() {
 }
 
 // Found by fuzzing (tests/fuzz world_checkpoint): a displacement of 1e33 m made the sample count's
-// double-to-long conversion overflow (undefined behaviour; the sanitizer build checks it). The count
+// double-to-long conversion overflow (undefined behavior; the sanitizer build checks it). The count
 // is capped at kMaxSamples instead (so such a move may step over a wall: World refuses desired
 // speeds above 1000 m/s, in set_desired_velocity and in checkpoints, long before that).
 TEST(GeomSceneryMotion, AbsurdDisplacementIsCappedNotOverflowed) {

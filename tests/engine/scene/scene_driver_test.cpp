@@ -1,4 +1,4 @@
-// The SceneDriver's behaviours: seek stops on the target, march keeps going, idle stands.
+// The SceneDriver's behaviors: seek stops on the target, march keeps going, idle stands.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,7 +13,7 @@ namespace {
 constexpr double kDt = 1.0 / 60.0;
 
 TEST(SceneDriver, SeekSpeedIsCappedAtDistanceOverDt) {
-  const ResolvedBehaviour seek{BehaviourKind::seek_point, {3.0, 4.0}, {}, 1.5};
+  const ResolvedBehavior seek{BehaviorKind::seek_point, {3.0, 4.0}, {}, 1.5};
   // Far away: full speed towards the target (direction (3, 4) / 5).
   const Vec3 far = desired_velocity(seek, {0.0, 0.0, 1.0}, kDt);
   EXPECT_DOUBLE_EQ(far.x, 1.5 * 0.6);
@@ -30,23 +30,23 @@ TEST(SceneDriver, SeekSpeedIsCappedAtDistanceOverDt) {
 }
 
 TEST(SceneDriver, MarchAndIdle) {
-  const ResolvedBehaviour march{BehaviourKind::march, {}, {0.0, -1.0}, 2.0};
+  const ResolvedBehavior march{BehaviorKind::march, {}, {0.0, -1.0}, 2.0};
   const Vec3 v = desired_velocity(march, {100.0, 100.0, 0.0}, kDt);
   EXPECT_EQ(v.x, 0.0);
   EXPECT_EQ(v.y, -2.0);
-  EXPECT_EQ(desired_velocity(ResolvedBehaviour{}, {1.0, 2.0, 3.0}, kDt), Vec3{});
+  EXPECT_EQ(desired_velocity(ResolvedBehavior{}, {1.0, 2.0, 3.0}, kDt), Vec3{});
 }
 
 TEST(SceneDriver, MarchTargetGivesDirectionFromShapeCentre) {
   SpawnShape shape;
-  shape.kind = ShapeKind::rect;
+  shape.kind = SpawnAreaKind::rect;
   shape.centre = {-10.0, 5.0};
-  Behaviour b{BehaviourKind::march, {20.0, -35.0}, true, {}, 1.0};  // (30, -40) away: direction (0.6, -0.8)
-  const auto r = resolve_behaviour(b, shape, "spawns[0].behaviour");
+  Behavior b{BehaviorKind::march, {20.0, -35.0}, true, {}, 1.0};  // (30, -40) away: direction (0.6, -0.8)
+  const auto r = resolve_behavior(b, shape, "spawns[0].behaviour");
   EXPECT_DOUBLE_EQ(r.direction.x, 0.6);
   EXPECT_DOUBLE_EQ(r.direction.y, -0.8);
   b.target = shape.centre;
-  EXPECT_THROW((void)resolve_behaviour(b, shape, "spawns[0].behaviour"), SceneError);
+  EXPECT_THROW((void)resolve_behavior(b, shape, "spawns[0].behaviour"), SceneError);
 }
 
 // In a real World: a lone body seeking a point arrives and then stays within a hair of it.
@@ -54,9 +54,9 @@ TEST(SceneDriver, BodyStopsAtTheTarget) {
   SceneDef s;
   SpawnGroup g;
   g.count = 1;
-  g.shape.kind = ShapeKind::point;
+  g.shape.kind = SpawnAreaKind::point;
   g.shape.centre = {0.0, 0.0};
-  g.behaviour = {BehaviourKind::seek_point, {1.0, 0.5}, true, {}, 1.5};
+  g.behavior = {BehaviorKind::seek_point, {1.0, 0.5}, true, {}, 1.5};
   s.spawns.push_back(g);
   BuiltScene b = build_scene(s);
   const ObjectId id = b.body_ids.at(0);

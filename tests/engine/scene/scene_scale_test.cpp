@@ -51,7 +51,7 @@ TEST(SceneScale, LayoutScalesButBodiesDoNot) {
   EXPECT_DOUBLE_EQ(big.scenery[0].half_extents_m.x, 2.0 * base.scenery[0].half_extents_m.x);
   EXPECT_EQ(big.scenery[0].centre.z, base.scenery[0].centre.z);
   EXPECT_EQ(big.spawns[0].radius_m, base.spawns[0].radius_m);
-  EXPECT_EQ(big.spawns[0].behaviour.speed_mps, base.spawns[0].behaviour.speed_mps);
+  EXPECT_EQ(big.spawns[0].behavior.speed_mps, base.spawns[0].behavior.speed_mps);
   // Shrinking never makes walls paper-thin.
   const SceneDef small = scale_scene(base, base.agent_count() / 100);
   EXPECT_GE(small.scenery[0].half_extents_m.y, std::min(base.scenery[0].half_extents_m.y, kMinScaledScenery_m));
@@ -61,7 +61,7 @@ TEST(SceneScale, LineKeepsItsSpacing) {
   SceneDef s;
   SpawnGroup g;
   g.count = 10;
-  g.shape.kind = ShapeKind::line;
+  g.shape.kind = SpawnAreaKind::line;
   g.shape.from = {0.0, 0.0};
   g.shape.to = {10.0, 0.0};
   s.spawns.push_back(g);

@@ -20,7 +20,7 @@ TEST(SceneSpawn, Uniform01IsInUnitIntervalAndDeterministic) {
 
 TEST(SceneSpawn, DiskIsInsideAndUniformInArea) {
   SpawnShape d;
-  d.kind = ShapeKind::disk;
+  d.kind = SpawnAreaKind::disk;
   d.centre = {5.0, -3.0};
   d.radius_m = 10.0;
   const auto pts = spawn_positions(d, 20'000, 7);
@@ -38,7 +38,7 @@ TEST(SceneSpawn, DiskIsInsideAndUniformInArea) {
 
 TEST(SceneSpawn, RectRotatesWithYaw) {
   SpawnShape r;
-  r.kind = ShapeKind::rect;
+  r.kind = SpawnAreaKind::rect;
   r.centre = {0.0, 0.0};
   r.half_extents_m = {10.0, 1.0};
   r.yaw_deg = 90.0;  // long side along y
@@ -50,11 +50,11 @@ TEST(SceneSpawn, RectRotatesWithYaw) {
 
 TEST(SceneSpawn, PointAndLine) {
   SpawnShape pt;
-  pt.kind = ShapeKind::point;
+  pt.kind = SpawnAreaKind::point;
   pt.centre = {2.0, 3.0};
   for (const auto& p : spawn_positions(pt, 5, 1)) EXPECT_EQ(p, (Vec2{2.0, 3.0}));
   SpawnShape l;
-  l.kind = ShapeKind::line;
+  l.kind = SpawnAreaKind::line;
   l.from = {0.0, 0.0};
   l.to = {4.0, 0.0};
   const auto pts = spawn_positions(l, 4, 1);  // segment midpoints

@@ -19,30 +19,30 @@ namespace {
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 struct Crowd {
-  std::vector<double> x, y, z, vx, vy, vz, px, py;
+  std::vector<double> x, y, z, vx, vy, vz, push_x, push_y;
   std::vector<std::uint8_t> grounded;
   std::vector<double> sx, sy, sz, mx, my;
 
   explicit Crowd(std::size_t n, std::uint32_t seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> pos(-1e4, 1e4), vel(-3.0, 3.0), push(-0.05, 0.05);
-    for (auto* v : {&x, &y, &z, &vx, &vy, &vz, &px, &py, &sx, &sy, &sz, &mx, &my}) v->resize(n);
+    for (auto* v : {&x, &y, &z, &vx, &vy, &vz, &push_x, &push_y, &sx, &sy, &sz, &mx, &my}) v->resize(n);
     grounded.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
       x[i] = pos(rng); y[i] = pos(rng); z[i] = pos(rng) * 1e-3;
       vx[i] = vel(rng); vy[i] = vel(rng); vz[i] = vel(rng);
-      px[i] = push(rng); py[i] = push(rng);
+      push_x[i] = push(rng); push_y[i] = push(rng);
       grounded[i] = static_cast<std::uint8_t>(rng() % 2);
     }
     // Edge cases: standing still, a push exactly against the step, a push larger than the step.
     if (n > 3) {
       vx[0] = vy[0] = 0.0;
-      px[1] = -vx[1] * 0.01; py[1] = -vy[1] * 0.01;
-      px[2] = -vx[2]; py[2] = -vy[2];
+      push_x[1] = -vx[1] * 0.01; push_y[1] = -vy[1] * 0.01;
+      push_x[2] = -vx[2]; push_y[2] = -vy[2];
     }
   }
   MoveColumns move_columns() {
-    return {x.data(), y.data(), z.data(), vx.data(), vy.data(), vz.data(), px.data(), py.data(), grounded.data(),
+    return {x.data(), y.data(), z.data(), vx.data(), vy.data(), vz.data(), push_x.data(), push_y.data(), grounded.data(),
             sx.data(), sy.data(), sz.data(), mx.data(), my.data()};
   }
 };
@@ -60,7 +60,7 @@ TEST(BodyPasses, MoveMatchesTheScalarFormulaBitForBit) {
           // The formula as the scalar loop wrote it before the kernel, with std::clamp.
           const double step2 = dx * dx + dy * dy;
           const double blocked_times_step =
-              std::clamp(-(before.px[i] * dx + before.py[i] * dy), 0.0, step2);
+              std::clamp(-(before.push_x[i] * dx + before.push_y[i] * dy), 0.0, step2);
           const double keep = 1.0 - carry * blocked_times_step / (step2 > 0.0 ? step2 : 1.0);
           dx *= keep;
           dy *= keep;
@@ -92,7 +92,7 @@ TEST(BodyPasses, FinishMatchesTheScalarFormulaBitForBit) {
   // Start and moved positions a little off the final ones.
   for (std::size_t i = 0; i < n; ++i) {
     c.sx[i] = c.x[i] - c.vx[i] * 0.01; c.sy[i] = c.y[i] - c.vy[i] * 0.01; c.sz[i] = c.z[i] - c.vz[i] * 0.01;
-    c.mx[i] = c.x[i] - c.px[i]; c.my[i] = c.y[i] - c.py[i];
+    c.mx[i] = c.x[i] - c.push_x[i]; c.my[i] = c.y[i] - c.push_y[i];
   }
   const double inv_dt = 60.0;
   finish_bodies({c.x.data(), c.y.data(), c.z.data(), c.mx.data(), c.my.data(), c.sx.data(), c.sy.data(), c.sz.data(),

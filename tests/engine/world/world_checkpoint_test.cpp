@@ -182,7 +182,7 @@ TEST(WorldCheckpoint, BadBytesThrowAndLeaveTheWorldUnchanged) {
 }
 
 // Found by fuzzing (tests/fuzz world_checkpoint): a checkpoint whose body position is NaN was
-// accepted, and the next step converted it to a grid cell coordinate (undefined behaviour). Values
+// accepted, and the next step converted it to a grid cell coordinate (undefined behavior). Values
 // no API call could have made are refused with the body named; the world stays unchanged.
 TEST(WorldCheckpoint, NonFiniteBodyStateIsRefused) {
   const scene::SceneDef def = small("obstacles");

@@ -1,8 +1,8 @@
 #pragma once
 // What drives a bot's entity. Once per tick the bot calls act() with what it knows (its
-// ClientWorld, its own pose, the other clients' entities) and a sink; the behaviour emits zero or
+// ClientWorld, its own pose, the other clients' entities) and a sink; the behavior emits zero or
 // more commands through the sink. The bot prefills every command (client id, own entity, next
-// sequence, last seen tick, camera at the own entity) from the behaviour's Intent; misbehaviours
+// sequence, last seen tick, camera at the own entity) from the behavior's Intent; misbehaviours
 // then spoil the fields they attack (NaN moves, someone else's entity, an old sequence number).
 //
 // Honest: wander, charge, waypoints, idle. Misbehaviours (security tests; every spoiled command
@@ -49,7 +49,7 @@ enum class Expect : std::uint8_t {
 class CommandSink {
  public:
   virtual ~CommandSink() = default;
-  // Appends a prefilled command with the next sequence number and returns it for the behaviour
+  // Appends a prefilled command with the next sequence number and returns it for the behavior
   // to spoil. The reference is valid until the next emit().
   virtual protocol::Command& emit(const Intent& intent, Expect expect = Expect::accept) = 0;
 };
@@ -66,7 +66,7 @@ std::unique_ptr<Behavior> make_behavior(std::string_view name);
 const std::vector<std::string>& behavior_names();  // every valid single name
 bool is_misbehavior(std::string_view name);
 
-// "wander" -> {"wander"}; "nan,flood" -> {"nan","flood"}; "mix" -> the honest behaviours
+// "wander" -> {"wander"}; "nan,flood" -> {"nan","flood"}; "mix" -> the honest behaviors
 // {"wander","charge","waypoints","idle"}. Bot i gets entry i % size. Throws std::invalid_argument
 // on an unknown or empty name.
 std::vector<std::string> expand_behavior_spec(std::string_view spec);

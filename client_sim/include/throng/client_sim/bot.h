@@ -1,7 +1,7 @@
 #pragma once
 // One simulated client, transport-free: the Fleet moves its messages. A bot joins with a random
 // nonce, learns its client id/entity/partition from the JoinReply, keeps a ClientWorld from its
-// snapshots, and once it has seen its own entity emits its behaviour's commands once per loop
+// snapshots, and once it has seen its own entity emits its behavior's commands once per loop
 // tick (camera = its entity). Thread-safe: snapshots arrive on DDS threads while the fleet's loop
 // ticks the bot; every public member locks the bot's mutex.
 #include <cstdint>
@@ -25,7 +25,7 @@ struct BotConfig {
   std::string name;              // at most 64 bytes (the server refuses longer)
   std::string behavior = "wander";
   std::uint64_t nonce = 0;       // non-zero; 0 draws one from std::random_device
-  std::uint64_t seed = 0;        // behaviour randomness; 0 draws one from std::random_device
+  std::uint64_t seed = 0;        // behavior randomness; 0 draws one from std::random_device
   ClientWorld::Options world{};
 };
 
@@ -34,7 +34,7 @@ class Bot {
   enum class State : std::uint8_t { created, joining, joined, refused, timed_out, left };
   static const char* to_string(State s);
 
-  // Throws std::invalid_argument for an unknown behaviour.
+  // Throws std::invalid_argument for an unknown behavior.
   Bot(BotConfig config, TimePoint launch);
 
   const std::string& name() const { return config_.name; }

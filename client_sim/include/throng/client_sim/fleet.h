@@ -34,9 +34,9 @@ struct FleetOptions {
   std::optional<protocol::TcpEndpoint> server_tcp;  // --server tcp://HOST:PORT: DDS over TCP to it
   bool participant_per_client = false;
   std::optional<protocol::SecurityFiles> security;  // DDS Security (throng-pki's bots identity); nullopt: off
-  std::string behavior = "wander";  // a behaviour spec (expand_behavior_spec)
+  std::string behavior = "wander";  // a behavior spec (expand_behavior_spec)
   std::string name_prefix = "bot";  // bot i is "<prefix>-<i>-<behavior>"
-  std::uint64_t seed = 0;           // 0: nonces and behaviour seeds from std::random_device
+  std::uint64_t seed = 0;           // 0: nonces and behavior seeds from std::random_device
   std::chrono::milliseconds server_wait{10000};
   std::chrono::milliseconds join_timeout{10000};
   std::uint32_t phases_per_tick = 8;  // >= 1
@@ -56,7 +56,7 @@ struct FleetProgress {
 
 class Fleet {
  public:
-  // Throws std::invalid_argument for a bad behaviour spec.
+  // Throws std::invalid_argument for a bad behavior spec.
   explicit Fleet(FleetOptions options);
   ~Fleet();
   Fleet(const Fleet&) = delete;

@@ -82,7 +82,7 @@ void add_spawn_group(BuiltScene& b, const params::ParamTable& table, const Scene
   // faction and group are parameters too; set first so "params" can still override them.
   if (g.group) overrides.insert(overrides.begin(), {params::Param::group_id, double(*g.group)});
   if (g.faction) overrides.insert(overrides.begin(), {params::Param::faction, double(*g.faction)});
-  const std::uint32_t behaviour = b.driver.add_behaviour(resolve_behaviour(g.behaviour, g.shape, path + ".behaviour"));
+  const std::uint32_t behavior = b.driver.add_behaviour(resolve_behavior(g.behavior, g.shape, path + ".behaviour"));
   BodyDef def;
   def.radius_m = g.radius_m;
   def.half_height_m = g.half_height_m;
@@ -95,7 +95,7 @@ void add_spawn_group(BuiltScene& b, const params::ParamTable& table, const Scene
       def.position = {p.x, p.y, z};
       const ObjectId id = b.world.create_body(def);
       for (const auto& [param, v] : overrides) b.world.set_param(id, param, v);
-      b.driver.add_agent(id, behaviour);
+      b.driver.add_agent(id, behavior);
       b.body_ids.push_back(id);
     }
   } catch (const std::invalid_argument& e) {

@@ -26,7 +26,7 @@ SceneDef one_cell_scene() {
   s.name = "one_cell";
   s.description = "every body starts at one point (broadphase worst case); bodies idle and are only pushed apart";
   s.ticks = 300;
-  s.spawns.push_back(group("heap", kAgents, point({0.0, 0.0}), kFootRadius_m, 0.0, "infantry", Behaviour{}));
+  s.spawns.push_back(group("heap", kAgents, point({0.0, 0.0}), kFootRadius_m, 0.0, "infantry", Behavior{}));
   return s;
 }
 

@@ -24,7 +24,7 @@ SceneDef street_scene() {
   for (int side = 0; side < 2; ++side) {
     const double sign = side == 0 ? -1.0 : 1.0;  // red on the west (-x), blue on the east
     const std::uint32_t faction = side == 0 ? 1u : 2u;
-    const Behaviour go = march({-sign, 0.0}, 1.3);
+    const Behavior go = march({-sign, 0.0}, 1.3);
     SpawnGroup heavy = foot(side == 0 ? "red heavy" : "blue heavy", 400, rect({sign * 12.5, 0.0}, {7.5, 9.5}), "heavy", go);
     SpawnGroup inf = foot(side == 0 ? "red infantry" : "blue infantry", 1'300, rect({sign * 45.0, 0.0}, {25.0, 9.5}),
                           "infantry", go);

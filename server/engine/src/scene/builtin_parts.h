@@ -38,7 +38,7 @@ inline Scenery cylinder(Vec3 centre, double radius_m, double half_height_m, std:
 
 inline SpawnShape disk(Vec2 centre, double radius_m) {
   SpawnShape s;
-  s.kind = ShapeKind::disk;
+  s.kind = SpawnAreaKind::disk;
   s.centre = centre;
   s.radius_m = radius_m;
   return s;
@@ -46,7 +46,7 @@ inline SpawnShape disk(Vec2 centre, double radius_m) {
 
 inline SpawnShape rect(Vec2 centre, Vec2 half_extents_m, double yaw_deg = 0.0) {
   SpawnShape s;
-  s.kind = ShapeKind::rect;
+  s.kind = SpawnAreaKind::rect;
   s.centre = centre;
   s.half_extents_m = half_extents_m;
   s.yaw_deg = yaw_deg;
@@ -55,21 +55,21 @@ inline SpawnShape rect(Vec2 centre, Vec2 half_extents_m, double yaw_deg = 0.0) {
 
 inline SpawnShape point(Vec2 centre) {
   SpawnShape s;
-  s.kind = ShapeKind::point;
+  s.kind = SpawnAreaKind::point;
   s.centre = centre;
   return s;
 }
 
-inline Behaviour seek(Vec2 target, double speed_mps) {
-  return {BehaviourKind::seek_point, target, true, {}, speed_mps};
+inline Behavior seek(Vec2 target, double speed_mps) {
+  return {BehaviorKind::seek_point, target, true, {}, speed_mps};
 }
 
-inline Behaviour march(Vec2 direction, double speed_mps) {
-  return {BehaviourKind::march, {}, false, direction, speed_mps};
+inline Behavior march(Vec2 direction, double speed_mps) {
+  return {BehaviorKind::march, {}, false, direction, speed_mps};
 }
 
 inline SpawnGroup group(std::string name, std::uint32_t count, SpawnShape shape, double radius_m, double half_height_m,
-                        std::string archetype, Behaviour behaviour) {
+                        std::string archetype, Behavior behavior) {
   SpawnGroup g;
   g.name = std::move(name);
   g.count = count;
@@ -77,11 +77,11 @@ inline SpawnGroup group(std::string name, std::uint32_t count, SpawnShape shape,
   g.radius_m = radius_m;
   g.half_height_m = half_height_m;
   g.archetype = std::move(archetype);
-  g.behaviour = behaviour;
+  g.behavior = behavior;
   return g;
 }
 
-inline SpawnGroup foot(std::string name, std::uint32_t count, SpawnShape shape, std::string archetype, Behaviour b) {
+inline SpawnGroup foot(std::string name, std::uint32_t count, SpawnShape shape, std::string archetype, Behavior b) {
   return group(std::move(name), count, shape, kFootRadius_m, kFootHalfHeight_m, std::move(archetype), b);
 }
 

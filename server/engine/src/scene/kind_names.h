@@ -13,10 +13,10 @@ namespace throng::scene::detail {
 
 inline constexpr std::array<std::pair<SceneryKind, std::string_view>, 3> kSceneryKinds{{
     {SceneryKind::box, "box"}, {SceneryKind::cylinder, "cylinder"}, {SceneryKind::mesh, "mesh"}}};
-inline constexpr std::array<std::pair<ShapeKind, std::string_view>, 4> kShapeKinds{{
-    {ShapeKind::disk, "disk"}, {ShapeKind::rect, "rect"}, {ShapeKind::point, "point"}, {ShapeKind::line, "line"}}};
-inline constexpr std::array<std::pair<BehaviourKind, std::string_view>, 3> kBehaviourKinds{{
-    {BehaviourKind::idle, "idle"}, {BehaviourKind::seek_point, "seek_point"}, {BehaviourKind::march, "march"}}};
+inline constexpr std::array<std::pair<SpawnAreaKind, std::string_view>, 4> kSpawnAreaKinds{{
+    {SpawnAreaKind::disk, "disk"}, {SpawnAreaKind::rect, "rect"}, {SpawnAreaKind::point, "point"}, {SpawnAreaKind::line, "line"}}};
+inline constexpr std::array<std::pair<BehaviorKind, std::string_view>, 3> kBehaviourKinds{{
+    {BehaviorKind::idle, "idle"}, {BehaviorKind::seek_point, "seek_point"}, {BehaviorKind::march, "march"}}};
 
 template <typename E, std::size_t N>
 std::string kind_name(const std::array<std::pair<E, std::string_view>, N>& table, E kind) {

@@ -18,7 +18,7 @@ void scale_shape(SpawnShape& sh, double s) {
   sh.centre = scaled(sh.centre, s);
   sh.radius_m *= s;
   sh.half_extents_m = scaled(sh.half_extents_m, s);
-  if (sh.kind == ShapeKind::line) {
+  if (sh.kind == SpawnAreaKind::line) {
     // Midpoint moves with the map (s), the rank's length keeps its spacing (s^2).
     const Vec2 mid{0.5 * (sh.from.x + sh.to.x), 0.5 * (sh.from.y + sh.to.y)};
     const Vec2 half{0.5 * (sh.to.x - sh.from.x), 0.5 * (sh.to.y - sh.from.y)};
@@ -74,7 +74,7 @@ SceneDef scale_scene(const SceneDef& scene, std::uint64_t agents) {
     auto& g = out.spawns[i];
     g.count = counts[i];
     scale_shape(g.shape, s);
-    g.behaviour.target = scaled(g.behaviour.target, s);
+    g.behavior.target = scaled(g.behavior.target, s);
   }
   for (auto& x : out.scenery) scale_scenery(x, s);
   return out;

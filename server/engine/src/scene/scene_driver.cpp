@@ -9,12 +9,12 @@
 
 namespace throng::scene {
 
-ResolvedBehaviour resolve_behaviour(const Behaviour& b, const SpawnShape& shape, const std::string& path) {
-  ResolvedBehaviour r;
+ResolvedBehavior resolve_behavior(const Behavior& b, const SpawnShape& shape, const std::string& path) {
+  ResolvedBehavior r;
   r.kind = b.kind;
   r.target = b.target;
   r.speed_mps = b.speed_mps;
-  if (b.kind == BehaviourKind::march) {
+  if (b.kind == BehaviorKind::march) {
     Vec2 d = b.direction;
     if (b.has_target) {
       const Vec2 c = shape_centre(shape);
@@ -29,13 +29,13 @@ ResolvedBehaviour resolve_behaviour(const Behaviour& b, const SpawnShape& shape,
   return r;
 }
 
-Vec3 desired_velocity(const ResolvedBehaviour& b, Vec3 position, double dt_s) {
+Vec3 desired_velocity(const ResolvedBehavior& b, Vec3 position, double dt_s) {
   switch (b.kind) {
-    case BehaviourKind::idle:
+    case BehaviorKind::idle:
       return {};
-    case BehaviourKind::march:
+    case BehaviorKind::march:
       return {b.direction.x * b.speed_mps, b.direction.y * b.speed_mps, 0.0};
-    case BehaviourKind::seek_point: {
+    case BehaviorKind::seek_point: {
       const double dx = b.target.x - position.x;
       const double dy = b.target.y - position.y;
       const double dist = std::sqrt(dx * dx + dy * dy);
@@ -49,13 +49,13 @@ Vec3 desired_velocity(const ResolvedBehaviour& b, Vec3 position, double dt_s) {
 
 SceneDriver::SceneDriver(double dt_s) : dt_s_(dt_s) {}
 
-std::uint32_t SceneDriver::add_behaviour(const ResolvedBehaviour& b) {
+std::uint32_t SceneDriver::add_behaviour(const ResolvedBehavior& b) {
   behaviours_.push_back(b);
   return static_cast<std::uint32_t>(behaviours_.size() - 1);
 }
 
-void SceneDriver::add_agent(ObjectId id, std::uint32_t behaviour) {
-  const Agent a{id, behaviour};
+void SceneDriver::add_agent(ObjectId id, std::uint32_t behavior) {
+  const Agent a{id, behavior};
   // Bodies are normally created in increasing id order, so this is an append.
   auto it = std::upper_bound(agents_.begin(), agents_.end(), a, [](const Agent& l, const Agent& r) { return l.id < r.id; });
   agents_.insert(it, a);
@@ -63,7 +63,7 @@ void SceneDriver::add_agent(ObjectId id, std::uint32_t behaviour) {
 
 void SceneDriver::apply(World& world) const {
   for (const Agent& a : agents_)
-    world.set_desired_velocity(a.id, desired_velocity(behaviours_[a.behaviour], world.position(a.id), dt_s_));
+    world.set_desired_velocity(a.id, desired_velocity(behaviours_[a.behavior], world.position(a.id), dt_s_));
 }
 
 }  // namespace throng::scene

@@ -63,21 +63,21 @@ Json scenery(const Scenery& s) {
 }
 
 Json shape(const SpawnShape& s) {
-  Json j = {{"type", detail::kind_name(detail::kShapeKinds, s.kind)}};
+  Json j = {{"type", detail::kind_name(detail::kSpawnAreaKinds, s.kind)}};
   switch (s.kind) {
-    case ShapeKind::disk:
+    case SpawnAreaKind::disk:
       j["centre"] = vec(s.centre);
       j["radius_m"] = s.radius_m;
       break;
-    case ShapeKind::rect:
+    case SpawnAreaKind::rect:
       j["centre"] = vec(s.centre);
       j["half_extents_m"] = vec(s.half_extents_m);
       j["yaw_deg"] = s.yaw_deg;
       break;
-    case ShapeKind::point:
+    case SpawnAreaKind::point:
       j["centre"] = vec(s.centre);
       break;
-    case ShapeKind::line:
+    case SpawnAreaKind::line:
       j["from"] = vec(s.from);
       j["to"] = vec(s.to);
       break;
@@ -85,16 +85,16 @@ Json shape(const SpawnShape& s) {
   return j;
 }
 
-Json behaviour(const Behaviour& b) {
+Json behavior(const Behavior& b) {
   Json j = {{"type", detail::kind_name(detail::kBehaviourKinds, b.kind)}};
   switch (b.kind) {
-    case BehaviourKind::idle:
+    case BehaviorKind::idle:
       break;
-    case BehaviourKind::seek_point:
+    case BehaviorKind::seek_point:
       j["target"] = vec(b.target);
       j["speed_mps"] = b.speed_mps;
       break;
-    case BehaviourKind::march:
+    case BehaviorKind::march:
       if (b.has_target)
         j["target"] = vec(b.target);
       else
@@ -119,7 +119,7 @@ Json spawn(const SpawnGroup& g) {
   j["grounded"] = g.grounded;
   j["collision_id"] = g.collision_id;
   if (!g.params.empty()) j["params"] = params(g.params);
-  j["behaviour"] = behaviour(g.behaviour);
+  j["behaviour"] = behavior(g.behavior);
   return j;
 }
 

@@ -166,13 +166,13 @@ Scenery read_scenery(const nlohmann::json& j, const std::string& path) {
 SpawnShape read_shape(const nlohmann::json& j, const std::string& path) {
   FieldReader r(j, path);
   SpawnShape s;
-  s.kind = read_kind(r, detail::kShapeKinds);
+  s.kind = read_kind(r, detail::kSpawnAreaKinds);
   switch (s.kind) {
-    case ShapeKind::disk:
+    case SpawnAreaKind::disk:
       s.centre = checked(r.vec2("centre", std::nullopt), r.path_of("centre"));
       s.radius_m = r.number("radius_m", std::nullopt, 0.0, kMaxSize_m);
       break;
-    case ShapeKind::rect:
+    case SpawnAreaKind::rect:
       s.centre = checked(r.vec2("centre", std::nullopt), r.path_of("centre"));
       s.half_extents_m = r.vec2("half_extents_m", std::nullopt);
       if (s.half_extents_m.x < 0.0) throw SceneError(r.path_of("half_extents_m") + "[0]", "must be >= 0");
@@ -181,10 +181,10 @@ SpawnShape read_shape(const nlohmann::json& j, const std::string& path) {
         throw SceneError(r.path_of("half_extents_m"), "must be <= " + detail::format_number(kMaxSize_m));
       s.yaw_deg = r.number("yaw_deg", 0.0, -360.0, 360.0);
       break;
-    case ShapeKind::point:
+    case SpawnAreaKind::point:
       s.centre = checked(r.vec2("centre", std::nullopt), r.path_of("centre"));
       break;
-    case ShapeKind::line:
+    case SpawnAreaKind::line:
       s.from = checked(r.vec2("from", std::nullopt), r.path_of("from"));
       s.to = checked(r.vec2("to", std::nullopt), r.path_of("to"));
       break;
@@ -193,19 +193,19 @@ SpawnShape read_shape(const nlohmann::json& j, const std::string& path) {
   return s;
 }
 
-Behaviour read_behaviour(const nlohmann::json& j, const std::string& path) {
+Behavior read_behavior(const nlohmann::json& j, const std::string& path) {
   FieldReader r(j, path);
-  Behaviour b;
+  Behavior b;
   b.kind = read_kind(r, detail::kBehaviourKinds);
   switch (b.kind) {
-    case BehaviourKind::idle:
+    case BehaviorKind::idle:
       break;
-    case BehaviourKind::seek_point:
+    case BehaviorKind::seek_point:
       b.target = checked(r.vec2("target", std::nullopt), r.path_of("target"));
       b.has_target = true;
       b.speed_mps = r.number("speed_mps", std::nullopt, 0.0, kMaxSpeed_mps);
       break;
-    case BehaviourKind::march: {
+    case BehaviorKind::march: {
       const bool has_dir = r.has("direction");
       b.has_target = r.has("target");
       if (has_dir == b.has_target) throw SceneError(path, "march needs exactly one of 'direction' or 'target'");
@@ -239,7 +239,7 @@ SpawnGroup read_spawn(const nlohmann::json& j, const std::string& path) {
   if (r.has("z_m")) g.z_m = r.number("z_m", std::nullopt, -kMaxCoord_m, kMaxCoord_m);
   g.grounded = r.boolean("grounded", true);
   g.collision_id = static_cast<std::uint32_t>(r.integer("collision_id", 0, std::numeric_limits<std::uint32_t>::max()));
-  if (const auto* b = r.raw("behaviour")) g.behaviour = read_behaviour(*b, r.path_of("behaviour"));
+  if (const auto* b = r.raw("behaviour")) g.behavior = read_behavior(*b, r.path_of("behaviour"));
   if (const auto* p = r.raw("params")) g.params = detail::read_param_overrides(*p, r.path_of("params"));
   r.finish();
   return g;

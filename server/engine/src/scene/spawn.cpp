@@ -19,7 +19,7 @@ std::vector<Vec2> spawn_positions(const SpawnShape& shape, std::uint32_t count, 
   std::mt19937_64 rng(seed);
   constexpr double kDegToRad = std::numbers::pi / 180.0;
   switch (shape.kind) {
-    case ShapeKind::disk:
+    case SpawnAreaKind::disk:
       for (std::uint32_t i = 0; i < count; ++i) {
         // Draw order (u then v) is part of the format: changing it moves every body of every scene.
         const double u = uniform01(rng);
@@ -29,7 +29,7 @@ std::vector<Vec2> spawn_positions(const SpawnShape& shape, std::uint32_t count, 
         out.push_back({shape.centre.x + r * std::cos(a), shape.centre.y + r * std::sin(a)});
       }
       break;
-    case ShapeKind::rect: {
+    case SpawnAreaKind::rect: {
       const double c = std::cos(shape.yaw_deg * kDegToRad);
       const double s = std::sin(shape.yaw_deg * kDegToRad);
       for (std::uint32_t i = 0; i < count; ++i) {
@@ -39,10 +39,10 @@ std::vector<Vec2> spawn_positions(const SpawnShape& shape, std::uint32_t count, 
       }
       break;
     }
-    case ShapeKind::point:
+    case SpawnAreaKind::point:
       out.assign(count, shape.centre);
       break;
-    case ShapeKind::line:
+    case SpawnAreaKind::line:
       for (std::uint32_t i = 0; i < count; ++i) {
         const double t = (static_cast<double>(i) + 0.5) / static_cast<double>(count);
         out.push_back({shape.from.x + t * (shape.to.x - shape.from.x), shape.from.y + t * (shape.to.y - shape.from.y)});
@@ -54,19 +54,19 @@ std::vector<Vec2> spawn_positions(const SpawnShape& shape, std::uint32_t count, 
 
 double shape_area(const SpawnShape& shape) {
   switch (shape.kind) {
-    case ShapeKind::disk:
+    case SpawnAreaKind::disk:
       return std::numbers::pi * shape.radius_m * shape.radius_m;
-    case ShapeKind::rect:
+    case SpawnAreaKind::rect:
       return 4.0 * shape.half_extents_m.x * shape.half_extents_m.y;
-    case ShapeKind::point:
-    case ShapeKind::line:
+    case SpawnAreaKind::point:
+    case SpawnAreaKind::line:
       break;
   }
   return 0.0;
 }
 
 Vec2 shape_centre(const SpawnShape& shape) {
-  if (shape.kind == ShapeKind::line) return {0.5 * (shape.from.x + shape.to.x), 0.5 * (shape.from.y + shape.to.y)};
+  if (shape.kind == SpawnAreaKind::line) return {0.5 * (shape.from.x + shape.to.x), 0.5 * (shape.from.y + shape.to.y)};
   return shape.centre;
 }
 

@@ -17,7 +17,7 @@ namespace {
 template <bool kCarry>
 void move_all(std::size_t n, double dt, double carry, double* __restrict x, double* __restrict y,
               double* __restrict z, const double* __restrict vx, const double* __restrict vy,
-              const double* __restrict vz, const double* __restrict px, const double* __restrict py,
+              const double* __restrict vz, const double* __restrict push_x, const double* __restrict push_y,
               const std::uint8_t* __restrict grounded, double* __restrict sx, double* __restrict sy,
               double* __restrict sz, double* __restrict mx, double* __restrict my) {
   for (std::size_t i = 0; i < n; ++i) {
@@ -25,7 +25,7 @@ void move_all(std::size_t n, double dt, double carry, double* __restrict x, doub
     sx[i] = x0; sy[i] = y0; sz[i] = z0;
     double dx = vx[i] * dt, dy = vy[i] * dt;
     if constexpr (kCarry) {
-      const double keep = carried_step_share(dx, dy, px[i], py[i], carry);
+      const double keep = carried_step_share(dx, dy, push_x[i], push_y[i], carry);
       dx *= keep;
       dy *= keep;
     }
@@ -41,11 +41,11 @@ void move_all(std::size_t n, double dt, double carry, double* __restrict x, doub
 void finish_all(std::size_t n, double inv_dt, const double* __restrict x, const double* __restrict y,
                 const double* __restrict z, const double* __restrict mx, const double* __restrict my,
                 const double* __restrict sx, const double* __restrict sy, const double* __restrict sz,
-                double* __restrict px, double* __restrict py, double* __restrict ax, double* __restrict ay,
+                double* __restrict push_x, double* __restrict push_y, double* __restrict ax, double* __restrict ay,
                 double* __restrict az) {
   for (std::size_t i = 0; i < n; ++i) {
-    px[i] = x[i] - mx[i];
-    py[i] = y[i] - my[i];
+    push_x[i] = x[i] - mx[i];
+    push_y[i] = y[i] - my[i];
     ax[i] = (x[i] - sx[i]) * inv_dt;
     ay[i] = (y[i] - sy[i]) * inv_dt;
     az[i] = (z[i] - sz[i]) * inv_dt;
@@ -55,13 +55,13 @@ void finish_all(std::size_t n, double inv_dt, const double* __restrict x, const 
 }  // namespace
 
 void finish_bodies(const FinishColumns& c, std::size_t n, double inv_dt) {
-  finish_all(n, inv_dt, c.x, c.y, c.z, c.moved_x, c.moved_y, c.start_x, c.start_y, c.start_z, c.px, c.py, c.ax, c.ay,
+  finish_all(n, inv_dt, c.x, c.y, c.z, c.moved_x, c.moved_y, c.start_x, c.start_y, c.start_z, c.push_x, c.push_y, c.ax, c.ay,
              c.az);
 }
 
 void move_free_bodies(const MoveColumns& c, std::size_t n, double dt, double carry) {
   auto* move = carry > 0.0 ? &move_all<true> : &move_all<false>;
-  move(n, dt, carry, c.x, c.y, c.z, c.vx, c.vy, c.vz, c.px, c.py, c.grounded, c.start_x, c.start_y, c.start_z,
+  move(n, dt, carry, c.x, c.y, c.z, c.vx, c.vy, c.vz, c.push_x, c.push_y, c.grounded, c.start_x, c.start_y, c.start_z,
        c.moved_x, c.moved_y);
 }
 

@@ -23,7 +23,7 @@ inline double carried_step_share(double dx, double dy, double push_x, double pus
 struct MoveColumns {
   double* x; double* y; double* z;
   const double* vx; const double* vy; const double* vz;
-  const double* px; const double* py;  // last tick's push
+  const double* push_x; const double* push_y;  // last tick's push
   const std::uint8_t* grounded;
   double* start_x; double* start_y; double* start_z;  // written: the positions before the move
   double* moved_x; double* moved_y;                   // written: the positions after it
@@ -40,7 +40,7 @@ struct FinishColumns {
   const double* x; const double* y; const double* z;  // final positions
   const double* moved_x; const double* moved_y;
   const double* start_x; const double* start_y; const double* start_z;
-  double* px; double* py;
+  double* push_x; double* push_y;
   double* ax; double* ay; double* az;
 };
 void finish_bodies(const FinishColumns& c, std::size_t n, double inv_dt);

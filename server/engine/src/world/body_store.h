@@ -53,7 +53,7 @@ struct BodyStore {
   std::vector<double> x, y, z;        // centre [m]
   std::vector<double> vx, vy, vz;     // desired velocity [m/s] (an input)
   std::vector<double> ax, ay, az;     // actual velocity over the last tick [m/s]
-  std::vector<double> px, py;         // solver push of the last tick (final - moved) [m]
+  std::vector<double> push_x, push_y;  // solver push of the last tick (final - moved) [m]
   std::vector<double> r, hh;          // radius, half height of the core segment [m]
   std::vector<std::uint8_t> grounded;
   std::vector<ObjectId> id;
@@ -72,7 +72,7 @@ struct BodyStore {
   template <class F>
   static void zip_columns(BodyStore& a, BodyStore& b, F&& f) {
     f(a.x, b.x); f(a.y, b.y); f(a.z, b.z); f(a.vx, b.vx); f(a.vy, b.vy); f(a.vz, b.vz);
-    f(a.ax, b.ax); f(a.ay, b.ay); f(a.az, b.az); f(a.px, b.px); f(a.py, b.py); f(a.r, b.r); f(a.hh, b.hh);
+    f(a.ax, b.ax); f(a.ay, b.ay); f(a.az, b.az); f(a.push_x, b.push_x); f(a.push_y, b.push_y); f(a.r, b.r); f(a.hh, b.hh);
     f(a.grounded, b.grounded); f(a.id, b.id); f(a.resistance, b.resistance); f(a.rule_lhs, b.rule_lhs);
     f(a.rule_rhs, b.rule_rhs); f(a.group, b.group); f(a.mask, b.mask); f(a.coeff_dirty, b.coeff_dirty);
     f(a.morale_level, b.morale_level); f(a.warm_count, b.warm_count);

@@ -28,7 +28,7 @@ std::uint64_t World::state_hash() const {
   feed(st, b.x); feed(st, b.y); feed(st, b.z);
   feed(st, b.vx); feed(st, b.vy); feed(st, b.vz);
   feed(st, b.ax); feed(st, b.ay); feed(st, b.az);
-  feed(st, b.px); feed(st, b.py);
+  feed(st, b.push_x); feed(st, b.push_y);
   feed(st, b.r); feed(st, b.hh); feed(st, b.grounded);
   feed(st, b.resistance); feed(st, b.morale_level);
   // Warm-start pushes steer the next tick, so they are state too: each body's live entries

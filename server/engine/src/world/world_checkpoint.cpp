@@ -216,8 +216,8 @@ WorldState decode_world_state(ByteReader& r) {
   {
     const BodyStore& b = st.bodies;
     for (std::uint32_t i = 0; i < n; ++i) {
-      for (const double v : {b.x[i], b.y[i], b.z[i], b.vx[i], b.vy[i], b.vz[i], b.ax[i], b.ay[i], b.az[i], b.px[i],
-                             b.py[i], b.resistance[i]}) {
+      for (const double v : {b.x[i], b.y[i], b.z[i], b.vx[i], b.vy[i], b.vz[i], b.ax[i], b.ay[i], b.az[i], b.push_x[i],
+                             b.push_y[i], b.resistance[i]}) {
         if (!std::isfinite(v)) r.fail("body " + std::to_string(i) + " has a non-finite position, velocity, push or resistance");
       }
       // set_desired_velocity's limit (found by fuzzing: a 1e33 m/s desire reached the scenery sweep).

@@ -43,7 +43,7 @@ std::string compare(const detail::WorldState& A, std::size_t i, const detail::Wo
   add(w, "x", a.x[i], b.x[j]); add(w, "y", a.y[i], b.y[j]); add(w, "z", a.z[i], b.z[j]);
   add(w, "desired_vx", a.vx[i], b.vx[j]); add(w, "desired_vy", a.vy[i], b.vy[j]); add(w, "desired_vz", a.vz[i], b.vz[j]);
   add(w, "vx", a.ax[i], b.ax[j]); add(w, "vy", a.ay[i], b.ay[j]); add(w, "vz", a.az[i], b.az[j]);
-  add(w, "push_x", a.px[i], b.px[j]); add(w, "push_y", a.py[i], b.py[j]);
+  add(w, "push_x", a.push_x[i], b.push_x[j]); add(w, "push_y", a.push_y[i], b.push_y[j]);
   add(w, "radius", a.r[i], b.r[j]); add(w, "half_height", a.hh[i], b.hh[j]);
   add(w, "grounded", a.grounded[i], b.grounded[j]);
   add(w, "resistance", a.resistance[i], b.resistance[j]);

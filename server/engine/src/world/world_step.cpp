@@ -65,7 +65,7 @@ void World::Impl::move_bodies() {
   if (scenery.size() == 0) {
     // Nothing can stop a move: the vectorised kernel (body_passes.cpp).
     detail::move_free_bodies({bodies.x.data(), bodies.y.data(), bodies.z.data(), bodies.vx.data(), bodies.vy.data(),
-                              bodies.vz.data(), bodies.px.data(), bodies.py.data(), bodies.grounded.data(),
+                              bodies.vz.data(), bodies.push_x.data(), bodies.push_y.data(), bodies.grounded.data(),
                               start_x.data(), start_y.data(), start_z.data(), moved_x.data(), moved_y.data()},
                              n, dt, carry);
     return;
@@ -75,7 +75,7 @@ void World::Impl::move_bodies() {
     start_x[i] = x0; start_y[i] = y0; start_z[i] = z0;
     double dx = bodies.vx[i] * dt, dy = bodies.vy[i] * dt;
     if (carry > 0.0) {
-      const double keep = detail::carried_step_share(dx, dy, bodies.px[i], bodies.py[i], carry);
+      const double keep = detail::carried_step_share(dx, dy, bodies.push_x[i], bodies.push_y[i], carry);
       dx *= keep;
       dy *= keep;
     }
@@ -298,7 +298,7 @@ void World::Impl::reorder_dense() {
 
 void World::Impl::finish_tick() {
   detail::finish_bodies({bodies.x.data(), bodies.y.data(), bodies.z.data(), moved_x.data(), moved_y.data(),
-                         start_x.data(), start_y.data(), start_z.data(), bodies.px.data(), bodies.py.data(),
+                         start_x.data(), start_y.data(), start_z.data(), bodies.push_x.data(), bodies.push_y.data(),
                          bodies.ax.data(), bodies.ay.data(), bodies.az.data()},
                         bodies.size(), 1.0 / settings.dt_s);
   ++tick;

@@ -1,6 +1,6 @@
 #pragma once
 // A scene as plain data: world settings, where the parameter table and push policy come from,
-// fixed scenery, and spawn groups with the behaviour the bench's driver gives them every tick.
+// fixed scenery, and spawn groups with the behavior the bench's driver gives them every tick.
 //
 // Scenes are data (not code) so that the bench, the tests and later the server and bots share the
 // same scenarios, and a scenario can be tuned without a rebuild. The JSON format is documented in
@@ -57,11 +57,11 @@ struct Scenery {
   bool operator==(const Scenery&) const = default;
 };
 
-enum class ShapeKind : std::uint8_t { disk, rect, point, line };
+enum class SpawnAreaKind : std::uint8_t { disk, rect, point, line };
 
 // Where a spawn group's bodies start (horizontal placement; z comes from the group).
 struct SpawnShape {
-  ShapeKind kind = ShapeKind::disk;
+  SpawnAreaKind kind = SpawnAreaKind::disk;
   Vec2 centre;               // disk, rect, point
   double radius_m = 0.0;     // disk: uniform in area
   Vec2 half_extents_m;       // rect: uniform in area
@@ -71,7 +71,7 @@ struct SpawnShape {
   bool operator==(const SpawnShape&) const = default;
 };
 
-enum class BehaviourKind : std::uint8_t { idle, seek_point, march };
+enum class BehaviorKind : std::uint8_t { idle, seek_point, march };
 
 // What the SceneDriver does with a body each tick.
 //  - idle: desired velocity 0 (the body only moves when pushed).
@@ -79,13 +79,13 @@ enum class BehaviourKind : std::uint8_t { idle, seek_point, march };
 //    distance / dt) — a crowd converging on a point.
 //  - march: move in a fixed direction forever (never stops: armies keep pressing). The direction
 //    is given, or taken from the spawn shape's centre towards target when the scene is built.
-struct Behaviour {
-  BehaviourKind kind = BehaviourKind::idle;
+struct Behavior {
+  BehaviorKind kind = BehaviorKind::idle;
   Vec2 target;                      // seek_point; march when has_target
   bool has_target = false;          // march: direction from target
   Vec2 direction;                   // march when !has_target (normalised when built)
   double speed_mps = 0.0;
-  bool operator==(const Behaviour&) const = default;
+  bool operator==(const Behavior&) const = default;
 };
 
 struct SpawnGroup {
@@ -102,7 +102,7 @@ struct SpawnGroup {
   std::optional<double> z_m;         // body centre height; default: standing on z = 0
   bool grounded = true;
   std::uint32_t collision_id = 0;
-  Behaviour behaviour;
+  Behavior behavior;
   std::map<std::string, double> params;  // per-body parameter overrides by name
   bool operator==(const SpawnGroup&) const = default;
 
