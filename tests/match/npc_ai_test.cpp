@@ -176,7 +176,9 @@ struct AiRun {
   std::uint32_t tick() {
     const std::uint32_t engaged = ai.update(built.world, controlled, yaw);
     built.world.step();
-    if (ai.follow_dense_order(built.world, perm)) {
+    const std::span<const std::uint32_t> perm = built.world.last_reorder();
+    if (!perm.empty()) {
+      ai.apply_reorder(perm);
       std::vector<std::uint32_t> c(perm.size());
       std::vector<float> y(perm.size());
       for (std::size_t d = 0; d < perm.size(); ++d) {
@@ -189,15 +191,10 @@ struct AiRun {
     }
     return engaged;
   }
-  std::size_t dense_of(ObjectId id) const {
-    for (std::size_t d = 0; d < built.world.body_count(); ++d) {
-      if (built.world.id_at(d) == id) return d;
-    }
-    return 0;
-  }
+  std::size_t dense_of(ObjectId id) const { return built.world.dense_index(id).value_or(0); }
   scene::BuiltScene built;
   NpcAi ai;
-  std::vector<std::uint32_t> controlled, perm;
+  std::vector<std::uint32_t> controlled;
   std::vector<float> yaw;
   int reorders = 0;
 };

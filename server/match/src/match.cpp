@@ -56,31 +56,29 @@ Match::Impl::Impl(const scene::SceneDef& scene_in, const MatchConfig& config_in,
   for (std::size_t d = 0; d < n; ++d) {
     const ObjectId oid = w.id_at(d);
     id_values[d] = oid.value;
-    if (dense_of_slot.size() <= oid.index()) dense_of_slot.resize(oid.index() + 1, kNoDense);
-    dense_of_slot[oid.index()] = static_cast<std::uint32_t>(d);
+    body_slots = std::max<std::size_t>(body_slots, oid.index() + 1);
   }
-  roster_of_slot = dense_of_slot;  // the roster is in the dense order at construction
+  // The roster is in the dense order at construction.
+  roster_of_slot.assign(body_slots, kNoDense);
+  for (std::size_t d = 0; d < n; ++d) roster_of_slot[w.id_at(d).index()] = static_cast<std::uint32_t>(d);
   contacts_granted.reserve(config.contacts.max_clients);
   ai.init(w);
   info = build_match_info(MatchInfoSource{scene, table, w, built.scenery_ids, built.body_ids, config, match_id});
   compute_checkpoint_hashes();
 }
 
-void Match::Impl::follow_dense_order() {
-  if (!ai.follow_dense_order(world(), perm)) return;
+void Match::Impl::follow_reorder() {
+  const std::span<const std::uint32_t> perm = world().last_reorder();
+  if (perm.empty()) return;
+  ai.apply_reorder(perm);
   apply_permutation(yaw, perm, scratch_f32);
   apply_permutation(controller, perm, scratch_u32);
-  const World& w = world();
-  for (std::size_t d = 0; d < perm.size(); ++d) {
-    const ObjectId oid = w.id_at(d);
-    id_values[d] = oid.value;
-    dense_of_slot[oid.index()] = static_cast<std::uint32_t>(d);
-  }
+  apply_permutation(id_values, perm, scratch_u32);
 }
 
 std::uint32_t Match::Impl::dense_of(ObjectId id) const {
-  if (!world().is_body(id) || id.index() >= dense_of_slot.size()) return kNoDense;
-  return dense_of_slot[id.index()];
+  const std::optional<std::size_t> d = world().dense_index(id);
+  return d ? static_cast<std::uint32_t>(*d) : kNoDense;
 }
 
 Match::Match(const scene::SceneDef& scene, const MatchConfig& config, std::string match_id)
@@ -112,7 +110,7 @@ const TickReport& Match::tick(Outbox& out) {
   m.ai.update(m.world(), m.controller, m.yaw);
   const auto t3 = clock::now();
   m.world().step();
-  m.follow_dense_order();
+  m.follow_reorder();
   r.push_events = static_cast<std::uint32_t>(m.world().push_events().size());
   r.state_hash = m.world().state_hash();
   m.ticks = tick;

@@ -10,7 +10,7 @@
 // softness), every client record ever seen (ids, nonce, name, partition, entity, sequences, rate
 // counter, camera, the NPC parameters to restore, brace state, command counters), the NPC AI
 // (npc_ai_state.cpp) and the snapshot builder's per-client baselines (snapshot_builder.cpp).
-// Derived on restore from the world: id_values, dense_of_slot. Fixed by scene/config (checked by
+// Derived on restore from the world: id_values (the AI aligns its own order with it). Fixed by scene/config (checked by
 // the header's hashes, not saved): roster_of_slot, timeout_ticks, player_importance, the rest of
 // the match info. Not saved:
 //  - the input queue: inputs not yet drained are future inputs (the match log records them in
@@ -344,7 +344,7 @@ void restore_match(Impl& m, std::span<const std::uint8_t> bytes, RestoreOptions 
   if (keep_baselines) {
     // The builder's tables grow to at most 1.25x the largest object index, at least 1,024
     // (interest_grid.cpp): anything beyond twice that is corrupt.
-    staged_snapshots.restore_state(snap, std::max<std::size_t>(1024, 2 * m.dense_of_slot.size()));
+    staged_snapshots.restore_state(snap, std::max<std::size_t>(1024, 2 * m.body_slots));
     if (snap.remaining() != 0) snap.fail(std::to_string(snap.remaining()) + " bytes after the end of the checkpoint");
     // The builder serves exactly the connected clients (found by fuzzing: a connected client without
     // baselines made the next tick throw from SnapshotBuilder::build).
@@ -406,12 +406,9 @@ void restore_match(Impl& m, std::span<const std::uint8_t> bytes, RestoreOptions 
   m.ai = std::move(staged_ai);
   m.snapshots = std::move(staged_snapshots);
   const World& w = m.world();
-  for (std::size_t d = 0; d < n; ++d) {
-    const ObjectId oid = w.id_at(d);
-    m.id_values[d] = oid.value;
-    if (m.dense_of_slot.size() <= oid.index()) m.dense_of_slot.resize(oid.index() + 1, kNoDense);
-    m.dense_of_slot[oid.index()] = static_cast<std::uint32_t>(d);
-  }
+  for (std::size_t d = 0; d < n; ++d) m.id_values[d] = w.id_at(d).value;
+  // The AI's arrays are in the order it saved them, the match's in the world's.
+  m.ai.align_with(w);
   m.report = TickReport{};
 }
 

@@ -66,8 +66,9 @@ struct Match::Impl {
   double braced_weight(double base_kg) const;
   Vec3 camera_of(const ClientRecord& c) const;
   std::uint32_t dense_of(ObjectId id) const;  // kNoDense for scenery / unknown
-  // After World::step: the world may have re-sorted its dense arrays (dense_order.h).
-  void follow_dense_order();
+  // After World::step: the per-body arrays follow the world's re-sort, if it made one
+  // (World::last_reorder).
+  void follow_reorder();
 
   // --- checkpoints (match_checkpoint.cpp) ---------------------------------------------------------
   void save_checkpoint(std::vector<std::uint8_t>& out, SaveOptions options) const;
@@ -108,14 +109,14 @@ struct Match::Impl {
   std::uint64_t config_hash = 0;    // MatchConfig fields that change results
 
   // Per body, in the world's dense order, which the World re-sorts every few ticks
-  // (follow_dense_order keeps these in step). The match never creates or destroys bodies.
+  // (follow_reorder keeps these in step). The match never creates or destroys bodies.
   std::vector<std::uint32_t> id_values;
   std::vector<float> yaw;
   std::vector<std::uint32_t> controller;      // client id, 0 = NPC
-  std::vector<std::uint32_t> dense_of_slot;   // ObjectId::index() -> dense index, kNoDense
   std::vector<Vec3> cameras;                  // scratch for World::set_cameras
   std::vector<std::uint32_t> roster_of_slot;  // ObjectId::index() -> MatchInfo roster index
-  std::vector<std::uint32_t> perm, scratch_u32;
+  std::size_t body_slots = 0;                 // 1 + the largest ObjectId::index() of the bodies
+  std::vector<std::uint32_t> scratch_u32;
   std::vector<float> scratch_f32;
 
   // The contacts debug channel (match_contacts.cpp). Capacity reserved at construction.

@@ -124,7 +124,7 @@ void NpcAi::init(const World& world) {
   }
 }
 
-bool NpcAi::follow_dense_order(const World& world, std::vector<std::uint32_t>& perm) {
+bool NpcAi::align_with(const World& world) {
   const std::size_t n = ids_.size();
   bool same = true;
   for (std::size_t d = 0; d < n && same; ++d) same = world.id_at(d) == ids_[d];
@@ -134,8 +134,14 @@ bool NpcAi::follow_dense_order(const World& world, std::vector<std::uint32_t>& p
     if (old_dense_of_slot_.size() <= slot) old_dense_of_slot_.resize(slot + 1);
     old_dense_of_slot_[slot] = static_cast<std::uint32_t>(d);
   }
-  perm.resize(n);
-  for (std::size_t d = 0; d < n; ++d) perm[d] = old_dense_of_slot_[world.id_at(d).index()];
+  perm_.resize(n);
+  for (std::size_t d = 0; d < n; ++d) perm_[d] = old_dense_of_slot_[world.id_at(d).index()];
+  apply_reorder(perm_);
+  return true;
+}
+
+void NpcAi::apply_reorder(std::span<const std::uint32_t> perm) {
+  const std::size_t n = perm.size();
   apply_permutation(ids_, perm, scratch_ids_);
   apply_permutation(group_, perm, scratch_u32_);
   apply_permutation(fslot_, perm, scratch_u8_);
@@ -148,7 +154,6 @@ bool NpcAi::follow_dense_order(const World& world, std::vector<std::uint32_t>& p
     if (t != kNoTarget) t = scratch_u32_[t];
   }
   apply_permutation(target_, perm, scratch_u32_);
-  return true;
 }
 
 void NpcAi::reassign(const World& world, std::size_t i) {

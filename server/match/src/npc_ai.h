@@ -92,10 +92,12 @@ class NpcAi {
   // offset from that group's anchor now.
   void reassign(const World& world, std::size_t dense_index);
 
-  // Call after every World::step: the World re-sorts its dense arrays every few ticks. If the order
-  // changed, the AI's per-body arrays follow it, perm[new dense] = old dense is filled and true is
-  // returned (the caller then permutes its own dense arrays: controlled, yaw).
-  bool follow_dense_order(const World& world, std::vector<std::uint32_t>& perm);
+  // After a World::step that re-sorted the dense arrays: the AI's per-body arrays follow
+  // (perm = World::last_reorder(), perm[new dense] = old dense).
+  void apply_reorder(std::span<const std::uint32_t> perm);
+  // After a restore: puts the AI's per-body arrays, saved in the order of the AI's own checkpoint,
+  // into the world's dense order (by their ids). Returns whether the order changed.
+  bool align_with(const World& world);
 
   // Desired velocities for every body with controlled[i] == 0 (dense order); yaw[i] is updated for
   // them. Returns the number of NPCs that went for an enemy this tick.
@@ -109,7 +111,7 @@ class NpcAi {
   void restore_state(ByteReader& r, std::size_t n);
   // After restore_state: throws CheckpointError unless the restored AI drives exactly the bodies
   // `body_ids` (a world's, in its dense order; the AI's own order may be an older one, which
-  // follow_dense_order catches up with).
+  // align_with catches up with).
   void check_bodies(std::span<const ObjectId> body_ids) const;
 
   std::span<const AiGroup> groups() const { return groups_; }
@@ -137,7 +139,7 @@ class NpcAi {
   std::vector<std::uint32_t> body_cell_;
   std::vector<std::uint32_t> target_;             // dense index of the enemy being charged, or kNoTarget
   std::uint64_t ticks_ = 0;
-  std::vector<std::uint32_t> old_dense_of_slot_;  // scratch of follow_dense_order
+  std::vector<std::uint32_t> old_dense_of_slot_, perm_;  // scratch of align_with
   std::vector<ObjectId> scratch_ids_;
   std::vector<std::uint32_t> scratch_u32_;
   std::vector<std::uint8_t> scratch_u8_;

@@ -4,7 +4,7 @@
 // Derived on restore: group_by_key_, faction_slot_, enemy_slots_ (from groups_ / slot_faction_),
 // sum_x_/sum_y_ sizes. Not saved (scratch, rebuilt by every update() before it is read):
 // body_cell_, the grid (start_, cursor_, ex_/ey_/ei_, near_, enemy_near_, window_ and its
-// dimensions) and the follow_dense_order scratch.
+// dimensions) and the align_with scratch.
 #include <algorithm>
 #include <string>
 #include <vector>

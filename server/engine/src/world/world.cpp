@@ -96,6 +96,7 @@ ObjectId World::create_body(const BodyDef& def) {
   require_range(def.half_height_m, 0.0, detail::kMaxBodyHalfHeightM, "create_body.half_height_m");
   Impl& w = *impl_;
   const auto dense = static_cast<std::uint32_t>(w.bodies.size());
+  w.last_reorder.clear();  // the order changes at the caller's request (see World::last_reorder)
   // Resolve parameters first so that an unknown archetype leaves the world untouched.
   (void)w.table.resolve(def.archetype, 0, def.collision_id);
   const ObjectId id = w.allocate_slot(Impl::SlotKind::kBody, dense);
@@ -120,6 +121,7 @@ ObjectId World::create_body(const BodyDef& def) {
 void World::destroy_body(ObjectId id) {
   Impl& w = *impl_;
   const std::uint32_t dense = w.body_index(id, "destroy_body");
+  w.last_reorder.clear();
   const std::size_t last = w.bodies.size() - 1;
   if (dense != last) {
     const ObjectId moved = w.bodies.id[last];
@@ -220,6 +222,12 @@ std::span<const double> World::pos_z() const { return impl_->bodies.z; }
 std::span<const double> World::radius() const { return impl_->bodies.r; }
 std::span<const double> World::half_height() const { return impl_->bodies.hh; }
 ObjectId World::id_at(std::size_t dense_index) const { return impl_->bodies.id.at(dense_index); }
+std::optional<std::size_t> World::dense_index(ObjectId id) const {
+  const Impl::Slot* s = impl_->find(id);
+  if (s == nullptr || s->kind != Impl::SlotKind::kBody) return std::nullopt;
+  return s->ref;
+}
+std::span<const std::uint32_t> World::last_reorder() const { return impl_->last_reorder; }
 Vec3 World::position(ObjectId id) const {
   const std::uint32_t i = impl_->body_index(id, "position");
   return {impl_->bodies.x[i], impl_->bodies.y[i], impl_->bodies.z[i]};

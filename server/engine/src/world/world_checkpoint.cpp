@@ -335,6 +335,7 @@ void World::Impl::apply_state(detail::WorldState&& st) {
   // Commit.
   settings = s;
   tick = st.tick;
+  last_reorder.clear();  // a restore sets the saved order; callers realign with id_at
   slots.resize(st.slot_kind.size());
   for (std::size_t i = 0; i < slots.size(); ++i) {
     slots[i] = Slot{st.slot_generation[i], static_cast<SlotKind>(st.slot_kind[i]), st.slot_ref[i]};

@@ -104,6 +104,8 @@ struct World::Impl {
   // Solver index -> dense index: the broadphase order of the last search (identity once
   // reorder_dense has put the dense arrays into that order).
   std::vector<std::uint32_t> solver_order;
+  // World::last_reorder: the permutation of the last step's re-sort, empty when it made none.
+  std::vector<std::uint32_t> last_reorder;
   // This tick's pairs are the kept list's taken entries (list.of_pair), not yet in `pairs`.
   bool pairs_in_list = false;
 

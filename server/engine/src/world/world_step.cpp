@@ -49,6 +49,7 @@ const StepStats& World::step() {
   w.stats.solve_us = micros_since(t);
 
   w.finish_tick();
+  w.last_reorder.clear();
   if (w.tick % Impl::kReorderPeriodTicks == 0) w.reorder_dense();
   w.stats.total_us = micros_since(t0);
   return w.stats;
@@ -292,6 +293,9 @@ void World::Impl::reorder_dense() {
   for (std::size_t s = 0; s < order.size(); ++s) params_scratch[s] = body_params[order[s]];
   params_scratch.swap(body_params);
   for (std::size_t s = 0; s < order.size(); ++s) slots[bodies.id[s].index()].ref = static_cast<std::uint32_t>(s);
+  // Published before the order becomes the identity (assign within the capacity: no allocation
+  // after the first re-sort).
+  last_reorder.assign(order.begin(), order.end());
   // Dense index s now holds solver slot s; a kept pair list (in solver indices) stays valid.
   for (std::size_t s = 0; s < order.size(); ++s) order[s] = static_cast<std::uint32_t>(s);
 }

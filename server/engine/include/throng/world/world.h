@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -85,6 +86,14 @@ class World {
   std::span<const double> radius() const;
   std::span<const double> half_height() const;
   ObjectId id_at(std::size_t dense_index) const;
+  // The dense index of body `id` now, or nullopt when id is not a body of this world.
+  std::optional<std::size_t> dense_index(ObjectId id) const;
+  // The re-sort the last step() made: reorder[new dense index] = old dense index, or empty when it
+  // made none (a re-sort may also leave the order as it was). Callers that keep per-body arrays in dense order permute them with it after
+  // each step instead of comparing ids. Only step() re-sorts on its own; create_body,
+  // destroy_body and restore_state change the order at the caller's request (use id_at then), and
+  // they empty this.
+  std::span<const std::uint32_t> last_reorder() const;
   Vec3 position(ObjectId id) const;
   Vec3 velocity(ObjectId id) const;  // actual velocity over the last tick
   const params::ObjectParams& params(ObjectId id) const;

@@ -1,0 +1,108 @@
+// The world's dense order as callers see it: World::last_reorder publishes each re-sort a step
+// makes, and World::dense_index finds a body without scanning.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "world/world_fixtures.h"
+
+namespace throng::test {
+namespace {
+
+// Bodies scattered in creation order (far from spatial order), walking, so the re-sort moves them.
+World scattered_world(std::size_t n) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> pos(-20.0, 20.0), vel(-1.5, 1.5);
+  World w(WorldSettings{}, test_table(), weight_policy(params::PushMode::ratio, 50.0));
+  for (std::size_t i = 0; i < n; ++i) {
+    BodyDef d;
+    d.position = {pos(rng), pos(rng), 0.35};
+    const ObjectId id = w.create_body(d);
+    w.set_desired_velocity(id, {vel(rng), vel(rng), 0.0});
+  }
+  return w;
+}
+
+std::vector<ObjectId> ids_in_dense_order(const World& w) {
+  std::vector<ObjectId> ids(w.body_count());
+  for (std::size_t d = 0; d < ids.size(); ++d) ids[d] = w.id_at(d);
+  return ids;
+}
+
+TEST(DenseOrder, EveryStepPublishesTheReSortItMadeAndOnlyThat) {
+  World w = scattered_world(400);
+  std::size_t reorders = 0, changed = 0;
+  for (int t = 0; t < 64; ++t) {
+    const std::vector<ObjectId> before = ids_in_dense_order(w);
+    w.step();
+    const std::vector<ObjectId> after = ids_in_dense_order(w);
+    const auto perm = w.last_reorder();
+    if (perm.empty()) {
+      EXPECT_EQ(after, before) << "tick " << w.tick() << ": the order changed without a published re-sort";
+      continue;
+    }
+    ++reorders;
+    ASSERT_EQ(perm.size(), before.size());
+    std::vector<std::uint32_t> sorted(perm.begin(), perm.end());
+    std::sort(sorted.begin(), sorted.end());
+    for (std::size_t k = 0; k < sorted.size(); ++k) ASSERT_EQ(sorted[k], k) << "not a permutation";
+    // perm[new] = old: the body now at d was at perm[d].
+    for (std::size_t d = 0; d < after.size(); ++d) ASSERT_EQ(after[d], before[perm[d]]) << "dense index " << d;
+    changed += after != before ? 1 : 0;
+  }
+  EXPECT_EQ(reorders, 4u);  // every 16 ticks
+  EXPECT_GE(changed, 1u);   // the scattered creation order is not the spatial order
+}
+
+TEST(DenseOrder, CreateDestroyAndRestoreEmptyTheReSort) {
+  World w = scattered_world(100);
+  for (int t = 0; t < 16; ++t) w.step();
+  ASSERT_FALSE(w.last_reorder().empty());
+  std::vector<std::uint8_t> saved;
+  w.save_state(saved);
+  BodyDef d;
+  d.position = {50.0, 50.0, 0.35};
+  const ObjectId extra = w.create_body(d);
+  EXPECT_TRUE(w.last_reorder().empty());
+
+  for (int t = 0; t < 16; ++t) w.step();
+  ASSERT_FALSE(w.last_reorder().empty());
+  w.destroy_body(extra);
+  EXPECT_TRUE(w.last_reorder().empty());
+
+  for (int t = 0; t < 16; ++t) w.step();
+  ASSERT_FALSE(w.last_reorder().empty());
+  World restored = scattered_world(100);
+  for (int t = 0; t < 16; ++t) restored.step();
+  ASSERT_FALSE(restored.last_reorder().empty());
+  restored.restore_state(saved);
+  EXPECT_TRUE(restored.last_reorder().empty());
+}
+
+TEST(DenseOrder, DenseIndexFindsBodiesAndNothingElse) {
+  World w = scattered_world(200);
+  const ObjectId wall = w.add_fixed_box({0.0, 30.0, 1.0}, {1.0, 1.0, 1.0}, 0.0);
+  for (int t = 0; t < 40; ++t) w.step();
+  for (std::size_t d = 0; d < w.body_count(); ++d) {
+    const auto found = w.dense_index(w.id_at(d));
+    ASSERT_TRUE(found.has_value());
+    EXPECT_EQ(*found, d);
+  }
+  EXPECT_FALSE(w.dense_index(wall).has_value());
+  EXPECT_FALSE(w.dense_index(kNoObject).has_value());
+  const ObjectId gone = w.id_at(5);
+  w.destroy_body(gone);
+  EXPECT_FALSE(w.dense_index(gone).has_value());
+  // A stale id whose slot was reused names the new body only with the new generation.
+  BodyDef d;
+  d.position = {60.0, 60.0, 0.35};
+  const ObjectId reused = w.create_body(d);
+  EXPECT_FALSE(w.dense_index(gone).has_value());
+  EXPECT_EQ(w.dense_index(reused), std::optional<std::size_t>(w.body_count() - 1));
+}
+
+}  // namespace
+}  // namespace throng::test
