@@ -12,7 +12,6 @@
 #include "broadphase/cell_key.h"
 
 namespace throng::detail {
-namespace {
 
 // The narrow candidate test: expanded circles in the plane, then the gap between the vertical
 // core segments. Pass-through bodies never collide: both masks must accept the other's group.
@@ -21,7 +20,7 @@ namespace {
 // Every scan below evaluates exactly these operations (negated >=, so a NaN compares as before)
 // without branching on the outcome: it writes each tested pair to out[count] and advances count
 // only for candidates (in a packed crowd the distance test is close to a coin toss).
-struct BodyArrays {
+struct GridScanBodies {
   const double* __restrict x;
   const double* __restrict y;
   const double* __restrict z;
@@ -36,16 +35,20 @@ struct BodyArrays {
 // passes for the smallest possible reach (checked by test_mode), so the gap and group/mask tests
 // pass for every pair and only the distance test is made. kFlatOneRadius: kFlat and every body has
 // the same radius, so every pair's reach (ri + rj) + margin is the same number.
-enum class TestMode { kFull, kFlat, kFlatOneRadius };
+enum class GridTestMode { kFull, kFlat, kFlatOneRadius };
 
-template <TestMode kMode>
-inline std::size_t scan_one(const BodyArrays& v, std::uint32_t i, std::uint32_t j, double xi, double yi, double zi,
+namespace {
+
+
+
+template <GridTestMode kMode>
+inline std::size_t scan_one(const GridScanBodies& v, std::uint32_t i, std::uint32_t j, double xi, double yi, double zi,
                             double ri, double hhi, std::uint32_t gi, std::uint32_t mi, double margin,
                             CandidatePair* __restrict out, std::size_t count) {
   const double dx = v.x[j] - xi;
   const double dy = v.y[j] - yi;
-  const double reach = ri + (kMode == TestMode::kFlatOneRadius ? ri : v.r[j]) + margin;
-  if constexpr (kMode != TestMode::kFull) {
+  const double reach = ri + (kMode == GridTestMode::kFlatOneRadius ? ri : v.r[j]) + margin;
+  if constexpr (kMode != GridTestMode::kFull) {
     out[count] = CandidatePair(i, j);
     return count + static_cast<bool>(!(dx * dx + dy * dy >= reach * reach));
   }
@@ -58,8 +61,8 @@ inline std::size_t scan_one(const BodyArrays& v, std::uint32_t i, std::uint32_t 
 
 // Two bodies at a time with SSE2 (baseline x86-64; the same IEEE double operations as the scalar
 // code, lane by lane, no FMA), then at most one scalar.
-template <TestMode kMode>
-inline std::size_t scan_range(const BodyArrays& v, std::uint32_t i, std::uint32_t from, std::uint32_t len, double margin,
+template <GridTestMode kMode>
+inline std::size_t scan_range(const GridScanBodies& v, std::uint32_t i, std::uint32_t from, std::uint32_t len, double margin,
                               CandidatePair* __restrict out, std::size_t count) {
   const double xi = v.x[i], yi = v.y[i], zi = v.z[i], ri = v.r[i], hhi = v.hh[i];
   const std::uint32_t gi = v.group[i], mi = v.mask[i];
@@ -77,11 +80,11 @@ inline std::size_t scan_range(const BodyArrays& v, std::uint32_t i, std::uint32_
       const __m128d dy = _mm_sub_pd(_mm_loadu_pd(v.y + j), vyi);
       const __m128d d2 = _mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy));
       int bits;
-      if constexpr (kMode == TestMode::kFlatOneRadius) {
+      if constexpr (kMode == GridTestMode::kFlatOneRadius) {
         bits = _mm_movemask_pd(_mm_cmpnge_pd(d2, reach1_sq));
       } else {
         const __m128d reach = _mm_add_pd(_mm_add_pd(vri, _mm_loadu_pd(v.r + j)), vmargin);
-        if constexpr (kMode == TestMode::kFlat) {
+        if constexpr (kMode == GridTestMode::kFlat) {
           bits = _mm_movemask_pd(_mm_cmpnge_pd(d2, _mm_mul_pd(reach, reach)));
         } else {
           const __m128d gap_z = _mm_sub_pd(
@@ -104,10 +107,10 @@ inline std::size_t scan_range(const BodyArrays& v, std::uint32_t i, std::uint32_
   return count;
 }
 
-// Which tests the n bodies need (see TestMode); any NaN or infinity among z, hh, r gives kFull.
+// Which tests the n bodies need (see GridTestMode); any NaN or infinity among z, hh, r gives kFull.
 // One SSE2 pass, two bodies per step.
-inline TestMode test_mode(const BodyArrays& v, std::size_t n, double margin) {
-  if (n == 0) return TestMode::kFull;
+inline GridTestMode test_mode(const GridScanBodies& v, std::size_t n, double margin) {
+  if (n == 0) return GridTestMode::kFull;
   const double z0 = v.z[0], hh0 = v.hh[0], r0 = v.r[0];
   const std::uint32_t g0 = v.group[0];
   const __m128d vz0 = _mm_set1_pd(z0), vhh0 = _mm_set1_pd(hh0), vr0 = _mm_set1_pd(r0);
@@ -135,12 +138,12 @@ inline TestMode test_mode(const BodyArrays& v, std::size_t n, double margin) {
     all_one_radius = all_one_radius && v.r[s] == r0;
     rm = std::min(rm, v.r[s]);
   }
-  if (!ok || !std::isfinite(z0) || !std::isfinite(hh0)) return TestMode::kFull;
+  if (!ok || !std::isfinite(z0) || !std::isfinite(hh0)) return GridTestMode::kFull;
   // Every pair's gap is (|z0 - z0| - hh0) - hh0 and its reach (ri + rj) + margin is at least
   // (r_min + r_min) + margin (rounding is monotone).
   const double gap0 = std::fabs(z0 - z0) - hh0 - hh0;
-  if (!(gap0 < rm + rm + margin)) return TestMode::kFull;
-  return all_one_radius ? TestMode::kFlatOneRadius : TestMode::kFlat;
+  if (!(gap0 < rm + rm + margin)) return GridTestMode::kFull;
+  return all_one_radius ? GridTestMode::kFlatOneRadius : GridTestMode::kFlat;
 }
 
 }  // namespace
@@ -318,157 +321,209 @@ void HierGrid::build(const double* x, const double* y, const double* r, std::siz
   }
 }
 
-std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::uint32_t max_candidates,
-                                   std::vector<CandidatePair>& out) const {
-  std::uint32_t capped = 0;
-  const BodyArrays a{v.x, v.y, v.z, v.r, v.hh, v.group, v.mask};
-  // Pairs are written to out[count] ahead of the test; out is grown to its capacity first (free:
-  // CandidatePair's default constructor does nothing) and cut back to the hits at the end, which
-  // never releases capacity, so after warm-up no tick allocates.
-  std::size_t count = out.size();
-  out.resize(out.capacity());
+// find_pairs' output and budgets for one test mode: body i against ranges of solver indices, each
+// tested pair written to out[count] ahead of the test (see GridScanBodies). out is grown to its
+// capacity first (free: CandidatePair's default constructor does nothing) and cut back to the hits
+// at the end, which never releases capacity, so after warm-up no tick allocates.
+template <GridTestMode kMode>
+class HierGrid::PairScan {
+ public:
+  struct Range {
+    std::uint32_t begin, end;
+  };
+
+  PairScan(const GridScanBodies& a, double margin, std::uint32_t max_candidates, std::vector<CandidatePair>& out)
+      : a_(a), margin_(margin), max_candidates_(max_candidates), out_(out), count_(out.size()) {
+    out_.resize(out_.capacity());
+    buf_ = out_.data();
+    room_ = out_.size();
+  }
+
+  const GridScanBodies& bodies() const { return a_; }
+  std::uint32_t max_candidates() const { return max_candidates_; }
+
+  // Body i of a level against [i + 1, near_end) (its own cell's later bodies and the cells to its
+  // right) and then the ranges of the rows above, in that order, within max_candidates.
+  void same_level(std::uint32_t i, std::uint32_t near_end, const Range* up, int up_count) {
+    std::uint32_t budget = max_candidates_;
+    const std::uint32_t near_len = std::min(near_end - (i + 1), budget);
+    budget -= near_len;
+    std::uint32_t up_len[2] = {0, 0};
+    for (int u = 0; u < up_count; ++u) {
+      up_len[u] = std::min(up[u].end - up[u].begin, budget);
+      budget -= up_len[u];
+    }
+    if (budget == 0) ++capped_;
+    reserve(max_candidates_);
+    count_ = scan_range<kMode>(a_, i, i + 1, near_len, margin_, buf_, count_);
+    for (int u = 0; u < up_count; ++u) count_ = scan_range<kMode>(a_, i, up[u].begin, up_len[u], margin_, buf_, count_);
+  }
+
+  // Body i against [from, from + len): a row of a finer level.
+  void other_level(std::uint32_t i, std::uint32_t from, std::uint32_t len) {
+    reserve(len);
+    count_ = scan_range<kMode>(a_, i, from, len, margin_, buf_, count_);
+  }
+
+  void count_capped() { ++capped_; }
+
+  // Cuts the output back to the candidates found; returns the bodies whose budget ran out.
+  std::uint32_t finish() {
+    out_.resize(count_);
+    return capped_;
+  }
+
+ private:
+  void reserve(std::size_t more) {
+    if (room_ >= count_ + more) return;
+    out_.resize(std::max(count_ + more, 2 * out_.size()));
+    buf_ = out_.data();
+    room_ = out_.size();
+  }
+
+  const GridScanBodies& a_;
+  double margin_;
+  std::uint32_t max_candidates_;
+  std::vector<CandidatePair>& out_;
+  CandidatePair* buf_ = nullptr;
+  std::size_t room_ = 0;
+  std::size_t count_;
+  std::uint32_t capped_ = 0;
+};
+
+// A counting-sorted level: start[k] is the first body of key k for every key, so the right
+// neighbour ends at start[key + 2] and the row above spans [start[key + stride - 1],
+// start[key + stride + 2]) (empty cells contribute nothing). Occupied keys are interior, so
+// key + stride + 2 <= stride * rows. Two cells out: key + 2 is at worst the next row's empty
+// border cell and key - 2 the previous row's, so the ranges still hold only the cells meant; a row
+// beyond the last holds nothing.
+template <class Scan>
+void HierGrid::scan_indexed_level(const Level& lv, int reach_cells, Scan& scan) const {
+  const std::uint32_t* start = lv.start.data();
+  for (const Cell& c : lv.cells) {
+    const std::uint64_t k = c.key;
+    typename Scan::Range up[2];
+    int up_count = 0;
+    std::uint32_t near_end;
+    if (reach_cells == 1) {
+      near_end = start[k + 2];
+      up[up_count++] = {start[k + lv.stride - 1], start[k + lv.stride + 2]};
+    } else {
+      near_end = start[k + 3];
+      const std::uint64_t row = k / lv.stride;
+      for (std::uint64_t r = 1; r <= 2 && row + r < lv.rows; ++r) {
+        up[up_count++] = {start[k + r * lv.stride - 2], start[k + r * lv.stride + 3]};
+      }
+    }
+    for (std::uint32_t i = c.begin; i < c.end; ++i) scan.same_level(i, near_end, up, up_count);
+  }
+}
+
+// A radix-sorted (sparse) level: the cell and its right neighbours are adjacent in the sorted
+// order, and so are the cells of a row above: contiguous ranges of bodies, scanned in the same
+// order as cell by cell.
+template <class Scan>
+void HierGrid::scan_sorted_level(const Level& lv, int reach_cells, Scan& scan) const {
+  const std::vector<Cell>& cells = lv.cells;
+  const auto reach = static_cast<std::uint64_t>(reach_cells);
+  std::size_t up_at[2] = {0, 0};  // first cell at or after (cx - reach, cy + r); only moves forward
+  for (std::size_t k = 0; k < cells.size(); ++k) {
+    const Cell& c = cells[k];
+    std::size_t last = k;
+    while (last + 1 < cells.size() && cells[last + 1].key <= c.key + reach) ++last;
+    const std::uint32_t near_end = cells[last].end;
+    typename Scan::Range up[2];
+    int up_count = 0;
+    for (int r = 1; r <= reach_cells; ++r) {
+      const std::uint64_t up_lo = c.key + static_cast<std::uint64_t>(r) * lv.stride - reach;
+      const std::uint64_t up_hi = c.key + static_cast<std::uint64_t>(r) * lv.stride + reach;
+      std::size_t& u = up_at[r - 1];
+      while (u < cells.size() && cells[u].key < up_lo) ++u;
+      if (u < cells.size() && cells[u].key <= up_hi) {
+        std::size_t q = u;
+        while (q + 1 < cells.size() && cells[q + 1].key <= up_hi) ++q;
+        up[up_count++] = {cells[u].begin, cells[q].end};
+      }
+    }
+    for (std::uint32_t i = c.begin; i < c.end; ++i) scan.same_level(i, near_end, up, up_count);
+  }
+}
+
+// Each body of coarser level l queries the finer levels over its box, row by row. The cells of
+// one row between two keys hold one contiguous range of bodies, so a row is one range scan; each
+// body examines at most 4 * max_candidates bodies in that order (a giant legitimately touches
+// many small bodies).
+template <class Scan>
+void HierGrid::scan_cross_levels(int l, double extra, Scan& scan) const {
+  const GridScanBodies& a = scan.bodies();
+  const Level& lv = levels_[l];
+  for (std::uint32_t i = lv.begin; i < lv.end; ++i) {
+    std::uint32_t budget = scan.max_candidates() * 4;
+    for (int m = 0; m < l; ++m) {
+      const Level& fine = levels_[m];
+      if (fine.cells.empty()) continue;
+      const double reach = a.r[i] + fine.max_reach_m + extra;
+      const double inv = 1.0 / fine.cell_m;
+      const std::int64_t cx0 = cell_coord(a.x[i] - reach, inv), cx1 = cell_coord(a.x[i] + reach, inv);
+      // Rows outside the level's occupied rows hold no bodies: skip them.
+      const std::int64_t max_cy = fine.min_cy + static_cast<std::int64_t>(fine.rows) - 3;
+      const std::int64_t cy0 = std::max(cell_coord(a.y[i] - reach, inv), fine.min_cy);
+      const std::int64_t cy1 = std::min(cell_coord(a.y[i] + reach, inv), max_cy);
+      const std::uint32_t* start = fine.start.empty() ? nullptr : fine.start.data();
+      for (std::int64_t cy = cy0; cy <= cy1 && budget > 0; ++cy) {
+        const std::uint64_t lo = level_key(fine, cx0, cy), hi = level_key(fine, cx1, cy);
+        std::uint32_t row_begin = 0, row_end = 0;
+        if (start != nullptr) {
+          row_begin = start[lo];
+          row_end = start[hi + 1];
+        } else {
+          auto it = std::lower_bound(fine.cells.begin(), fine.cells.end(), lo,
+                                     [](const Cell& cell, std::uint64_t key) { return cell.key < key; });
+          if (it != fine.cells.end() && it->key <= hi) {
+            row_begin = it->begin;
+            while (it + 1 != fine.cells.end() && (it + 1)->key <= hi) ++it;
+            row_end = it->end;
+          }
+        }
+        const std::uint32_t len = std::min(row_end - row_begin, budget);
+        budget -= len;
+        scan.other_level(i, row_begin, len);
+      }
+    }
+    if (budget == 0) scan.count_capped();
+  }
+}
+
+template <GridTestMode kMode>
+std::uint32_t HierGrid::find_pairs_in_mode(const GridScanBodies& a, double margin, double extra, std::uint32_t max_candidates,
+                                           std::vector<CandidatePair>& out) const {
+  PairScan<kMode> scan(a, margin, max_candidates, out);
   // Each body examines at most max_candidates bodies: its own cell's later bodies and the right
   // cell first, then the (up to three) cells of the row above. A search margin wider than the
   // build's (a pair list's skin) reaches two cells: the cell's later bodies and the next two cells,
   // then five cells in each of the two rows above (max_extra_margin says how far that reaches).
+  const int reach_cells = extra > 0.0 ? 2 : 1;
+  for (int l = 0; l < level_count_; ++l) {
+    if (!levels_[l].start.empty()) scan_indexed_level(levels_[l], reach_cells, scan);
+    else scan_sorted_level(levels_[l], reach_cells, scan);
+  }
+  for (int l = 1; l < level_count_; ++l) scan_cross_levels(l, extra, scan);
+  return scan.finish();
+}
+
+std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::uint32_t max_candidates,
+                                   std::vector<CandidatePair>& out) const {
+  const GridScanBodies a{v.x, v.y, v.z, v.r, v.hh, v.group, v.mask};
   const double extra = std::max(0.0, margin - build_margin_m_);
   if (level_count_ > 0 && extra > max_extra_margin(levels_[0].cell_m, build_margin_m_)) {
     throw std::invalid_argument("HierGrid::find_pairs: search margin beyond two cells of the grid");
   }
-  const int reach_cells = extra > 0.0 ? 2 : 1;
-  const auto scan_all = [&](auto mode) {
-    constexpr TestMode kMode = decltype(mode)::value;
-    CandidatePair* buf = out.data();
-    std::size_t room = out.size();
-    const auto grow = [&](std::size_t need) {
-      out.resize(std::max(need, 2 * out.size()));
-      buf = out.data();
-      room = out.size();
-    };
-    // Body i against [i + 1, near_end) and then the ranges above, in that order, within its budget.
-    struct Range {
-      std::uint32_t begin, end;
-    };
-    const auto scan_body = [&](std::uint32_t i, std::uint32_t near_end, const Range* up, int up_count) {
-      std::uint32_t budget = max_candidates;
-      const std::uint32_t near_len = std::min(near_end - (i + 1), budget);
-      budget -= near_len;
-      std::uint32_t up_len[2] = {0, 0};
-      for (int u = 0; u < up_count; ++u) {
-        up_len[u] = std::min(up[u].end - up[u].begin, budget);
-        budget -= up_len[u];
-      }
-      if (budget == 0) ++capped;
-      const std::size_t need = count + max_candidates;
-      if (room < need) grow(need);
-      count = scan_range<kMode>(a, i, i + 1, near_len, margin, buf, count);
-      for (int u = 0; u < up_count; ++u) count = scan_range<kMode>(a, i, up[u].begin, up_len[u], margin, buf, count);
-    };
-    for (int l = 0; l < level_count_; ++l) {
-      const std::vector<Cell>& cells = levels_[l].cells;
-      const std::uint64_t stride = levels_[l].stride;
-      const std::uint64_t rows = levels_[l].rows;
-      if (!levels_[l].start.empty()) {
-        // Counting-sorted level: start[k] is the first body of key k for every key, so the right
-        // neighbour ends at start[key + 2] and the row above spans [start[key + stride - 1],
-        // start[key + stride + 2]) (empty cells contribute nothing). Occupied keys are interior,
-        // so key + stride + 2 <= stride * rows. Two cells out: key + 2 is at worst the next row's
-        // empty border cell and key - 2 the previous row's, so the ranges still hold only the
-        // cells meant; a row beyond the last holds nothing.
-        const std::uint32_t* start = levels_[l].start.data();
-        for (const Cell& c : cells) {
-          const std::uint64_t k = c.key;
-          Range up[2];
-          int up_count = 0;
-          std::uint32_t near_end;
-          if (reach_cells == 1) {
-            near_end = start[k + 2];
-            up[up_count++] = {start[k + stride - 1], start[k + stride + 2]};
-          } else {
-            near_end = start[k + 3];
-            const std::uint64_t row = k / stride;
-            for (std::uint64_t r = 1; r <= 2 && row + r < rows; ++r) {
-              up[up_count++] = {start[k + r * stride - 2], start[k + r * stride + 3]};
-            }
-          }
-          for (std::uint32_t i = c.begin; i < c.end; ++i) scan_body(i, near_end, up, up_count);
-        }
-        continue;
-      }
-      std::size_t up_at[2] = {0, 0};  // first cell at or after (cx - reach, cy + r); only moves forward
-      for (std::size_t k = 0; k < cells.size(); ++k) {
-        const Cell& c = cells[k];
-        // The cell and its right neighbours are adjacent in the sorted order, and so are the cells
-        // of a row above: contiguous ranges of bodies, scanned in the same order as cell by cell.
-        std::size_t last = k;
-        while (last + 1 < cells.size() && cells[last + 1].key <= c.key + static_cast<std::uint64_t>(reach_cells)) ++last;
-        const std::uint32_t near_end = cells[last].end;
-        Range up[2];
-        int up_count = 0;
-        for (int r = 1; r <= reach_cells; ++r) {
-          const std::uint64_t up_lo = c.key + static_cast<std::uint64_t>(r) * stride - static_cast<std::uint64_t>(reach_cells);
-          const std::uint64_t up_hi = c.key + static_cast<std::uint64_t>(r) * stride + static_cast<std::uint64_t>(reach_cells);
-          std::size_t& u = up_at[r - 1];
-          while (u < cells.size() && cells[u].key < up_lo) ++u;
-          if (u < cells.size() && cells[u].key <= up_hi) {
-            std::size_t q = u;
-            while (q + 1 < cells.size() && cells[q + 1].key <= up_hi) ++q;
-            up[up_count++] = {cells[u].begin, cells[q].end};
-          }
-        }
-        for (std::uint32_t i = c.begin; i < c.end; ++i) scan_body(i, near_end, up, up_count);
-      }
-    }
-    // Cross-level pairs: each body of a coarser level queries the finer levels over its box, row by
-    // row. The cells of one row between two keys hold one contiguous range of bodies, so a row is
-    // one range scan; each body examines at most 4 * max_candidates bodies in that order.
-    for (int l = 1; l < level_count_; ++l) {
-      const Level& lv = levels_[l];
-      for (std::uint32_t i = lv.begin; i < lv.end; ++i) {
-        std::uint32_t budget = max_candidates * 4;  // a giant legitimately touches many small bodies
-        for (int m = 0; m < l; ++m) {
-          const Level& fine = levels_[m];
-          if (fine.cells.empty()) continue;
-          const double reach = a.r[i] + fine.max_reach_m + extra;
-          const double inv = 1.0 / fine.cell_m;
-          const std::int64_t cx0 = cell_coord(a.x[i] - reach, inv), cx1 = cell_coord(a.x[i] + reach, inv);
-          // Rows outside the level's occupied rows hold no bodies: skip them.
-          const std::int64_t max_cy = fine.min_cy + static_cast<std::int64_t>(fine.rows) - 3;
-          const std::int64_t cy0 = std::max(cell_coord(a.y[i] - reach, inv), fine.min_cy);
-          const std::int64_t cy1 = std::min(cell_coord(a.y[i] + reach, inv), max_cy);
-          const std::uint32_t* start = fine.start.empty() ? nullptr : fine.start.data();
-          for (std::int64_t cy = cy0; cy <= cy1 && budget > 0; ++cy) {
-            const std::uint64_t lo = level_key(fine, cx0, cy), hi = level_key(fine, cx1, cy);
-            std::uint32_t row_begin = 0, row_end = 0;
-            if (start != nullptr) {
-              row_begin = start[lo];
-              row_end = start[hi + 1];
-            } else {
-              auto it = std::lower_bound(fine.cells.begin(), fine.cells.end(), lo,
-                                         [](const Cell& cell, std::uint64_t key) { return cell.key < key; });
-              if (it != fine.cells.end() && it->key <= hi) {
-                row_begin = it->begin;
-                while (it + 1 != fine.cells.end() && (it + 1)->key <= hi) ++it;
-                row_end = it->end;
-              }
-            }
-            const std::uint32_t len = std::min(row_end - row_begin, budget);
-            budget -= len;
-            if (room < count + len) grow(count + len);
-            count = scan_range<kMode>(a, i, row_begin, len, margin, buf, count);
-          }
-        }
-        if (budget == 0) ++capped;
-      }
-    }
-  };
   switch (test_mode(a, order_.size(), margin)) {
-    case TestMode::kFlatOneRadius: scan_all(std::integral_constant<TestMode, TestMode::kFlatOneRadius>{}); break;
-    case TestMode::kFlat: scan_all(std::integral_constant<TestMode, TestMode::kFlat>{}); break;
-    case TestMode::kFull: scan_all(std::integral_constant<TestMode, TestMode::kFull>{}); break;
+    case GridTestMode::kFlatOneRadius: return find_pairs_in_mode<GridTestMode::kFlatOneRadius>(a, margin, extra, max_candidates, out);
+    case GridTestMode::kFlat: return find_pairs_in_mode<GridTestMode::kFlat>(a, margin, extra, max_candidates, out);
+    case GridTestMode::kFull: break;
   }
-  out.resize(count);
-  return capped;
+  return find_pairs_in_mode<GridTestMode::kFull>(a, margin, extra, max_candidates, out);
 }
 
 }  // namespace throng::detail

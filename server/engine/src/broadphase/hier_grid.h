@@ -42,6 +42,10 @@ struct GridBodyView {  // arrays in solver order
   const std::uint32_t* mask;
 };
 
+// The pair test's inputs and which tests it makes (defined in hier_grid.cpp).
+struct GridScanBodies;
+enum class GridTestMode;
+
 class HierGrid {
  public:
   static constexpr int kMaxLevels = 12;
@@ -81,6 +85,22 @@ class HierGrid {
   static double max_extra_margin(double cell0_m, double margin_m) { return cell0_m + margin_m; }
 
  private:
+  // find_pairs' phases (hier_grid.cpp): the pairs within a counting-sorted level, within a sorted
+  // (sparse) level, and of each coarser body with the finer levels' bodies, all into one PairScan
+  // (the output and the budgets) for the pair test the bodies need.
+  template <GridTestMode kMode>
+  class PairScan;
+  struct Level;
+  template <GridTestMode kMode>
+  std::uint32_t find_pairs_in_mode(const GridScanBodies& a, double margin, double extra, std::uint32_t max_candidates,
+                                   std::vector<CandidatePair>& out) const;
+  template <class Scan>
+  void scan_indexed_level(const Level& lv, int reach_cells, Scan& scan) const;
+  template <class Scan>
+  void scan_sorted_level(const Level& lv, int reach_cells, Scan& scan) const;
+  template <class Scan>
+  void scan_cross_levels(int l, double extra, Scan& scan) const;
+
   struct Cell {
     Cell() {}  // unset: build() sizes the cell list ahead and keeps only the occupied cells
     Cell(std::uint64_t key_, std::uint32_t begin_, std::uint32_t end_) : key(key_), begin(begin_), end(end_) {}
