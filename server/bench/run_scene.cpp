@@ -110,6 +110,7 @@ RunResult run_scene(const scene::SceneDef& def, const RunOptions& options) {
     r.band_sweeps_total += s.band_sweeps;
     r.band_sweeps_skipped_total += s.band_sweeps_skipped;
     r.pair_list_reused_ticks += s.pair_list_reused;
+    r.second_search_ticks += s.second_search;
     r.capped_bodies_max = std::max<std::uint64_t>(r.capped_bodies_max, s.capped_bodies);
     r.tunnel_clamps_total += s.tunnel_clamps;
     r.solver_max_pen_over_radius_last = s.max_pen_over_radius;
@@ -173,6 +174,7 @@ nlohmann::ordered_json to_json(const RunResult& r) {
                  {"iterations_used_mean", r.iterations_used_mean},
                  {"band_sweeps_skipped_share", r.band_sweeps_skipped_share()},
                  {"pair_list_reused_ticks", r.pair_list_reused_ticks},
+                 {"second_search_ticks", r.second_search_ticks},
                  {"capped_bodies_max", r.capped_bodies_max},
                  {"tunnel_clamps_total", r.tunnel_clamps_total},
                  {"max_pen_over_radius_last_tick", r.solver_max_pen_over_radius_last}};

@@ -69,6 +69,7 @@ struct RunResult {
     return band_sweeps_total == 0 ? 0.0 : static_cast<double>(band_sweeps_skipped_total) / static_cast<double>(band_sweeps_total);
   }
   std::uint64_t pair_list_reused_ticks = 0;     // ticks that kept the pair list (no search)
+  std::uint64_t second_search_ticks = 0;        // ticks that searched again after the solve
   std::uint64_t capped_bodies_max = 0;
   std::uint64_t tunnel_clamps_total = 0;
   double solver_max_pen_over_radius_last = 0.0;  // the solver's own figure, for comparison

@@ -77,6 +77,9 @@ struct World::Impl {
   std::vector<detail::SolverPair> pairs;
   detail::PairSchedule pair_schedule;
   std::size_t warm_pairs = 0;  // pairs of this tick that start with a warm-start push
+  // The second solve of a tick (World::step), and whether the first was the scheduled one.
+  bool second_solve = false;
+  bool first_solve_scheduled = false;
   std::vector<detail::SolverPlane> planes;
   std::vector<geom::SceneryContact> contacts;
   // This tick's push events: the first event_count (the buffer keeps its high-water size).
@@ -210,7 +213,10 @@ struct World::Impl {
   void pairs_from_list(bool gathered);  // gathered: sb already holds the bodies' positions
   bool relieve_piles();
   void build_scenery_planes();
-  void solve();
+  // apply_warm_start: false for the second solve of a tick, whose bodies already carry the pushes.
+  void solve(bool apply_warm_start);
+  // Whether the solve moved any body further than the contact margin from where the tick searched.
+  bool moved_past_margin() const;
   void verify_scenery_after_solve();
   void store_warm_start_and_events();
   void finish_tick();

@@ -96,7 +96,9 @@ void World::Impl::build_scenery_planes() {
       const double softness = fixed_params[c.shape].softness;
       if (softness > 0.0 && depth > 0.0) {
         // Soft fixed body (FIG. 10): only a depth-dependent share of the depth is removed this tick.
-        share = params::soft_push_share(softness, depth, sb.r[s]);
+        // The tick's second solve (World::step) holds the body where the first left it: the soft
+        // push is made once a tick.
+        share = second_solve ? 0.0 : params::soft_push_share(softness, depth, sb.r[s]);
         offset -= depth * (1.0 - share);
       }
       planes.push_back({c.normal.x, c.normal.y, c.normal.z, offset, 0.0, share, static_cast<std::uint32_t>(s),

@@ -44,8 +44,26 @@ const StepStats& World::step() {
 
   t = Clock::now();
   w.build_scenery_planes();
-  w.solve();
+  w.solve(true);
+  if (w.moved_past_margin()) {
+    // The search saw every pair within the margin of where the bodies stood; a body the sweeps
+    // carried further (a light body squeezed out between two heavy ones) may now overlap a body the
+    // solve never had. Search again where the bodies are and go on solving: each pair starts with
+    // the push it already made this tick (stored first, then looked up as a warm push, but not
+    // applied again), so the sweeps can give it back, and the normals are re-taken where the bodies
+    // now stand. A kept pair list's indices are the first search's: dropped.
+    w.store_warm_start_and_events();
+    w.list.drop();
+    w.second_solve = true;
+    w.fine_grid(w.bodies.x.data(), w.bodies.y.data(), w.bodies.z.data(), false);
+    w.search_candidates();
+    w.setup_pairs();
+    w.build_scenery_planes();
+    w.solve(false);
+    w.stats.second_search = 1;
+  }
   w.store_warm_start_and_events();
+  w.second_solve = false;
   w.stats.solve_us = micros_since(t);
 
   w.finish_tick();
@@ -206,10 +224,23 @@ void World::Impl::setup_pairs() {
   }
 }
 
-void World::Impl::solve() {
+bool World::Impl::moved_past_margin() const {
+  const double limit2 = settings.contact_margin_m * settings.contact_margin_m;
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const double dx = bodies.x[i] - moved_x[i], dy = bodies.y[i] - moved_y[i];
+    if (dx * dx + dy * dy > limit2) return true;
+  }
+  return false;
+}
+
+void World::Impl::solve(bool apply_warm_start) {
   const std::size_t n = sb.size();
   const double conflict_limit = policy.mode() == params::PushMode::ratio ? settings.conflict_share_limit : 0.0;
-  const bool scheduled = detail::wants_schedule(pairs_in_list ? list.live : pairs.size(), warm_pairs);
+  // The second solve of a tick goes on the way the first went (its pairs all start with the first
+  // solve's pushes, which would otherwise send every such tick to the scheduled solve).
+  const bool scheduled = second_solve ? first_solve_scheduled
+                                      : detail::wants_schedule(pairs_in_list ? list.live : pairs.size(), warm_pairs);
+  first_solve_scheduled = scheduled;
   // A kept list's pairs are scheduled straight from the list; the general code needs SolverPairs.
   if (pairs_in_list && !(scheduled && list.all_fast)) materialize_list_pairs();
   sb.displaced = scheduled;
@@ -219,17 +250,20 @@ void World::Impl::solve() {
     else detail::build_pair_schedule(sb, pairs, conflict_limit, pair_schedule);
   }
   if (settings.record_push_events) detail::measure_start_depths(sb, pairs, planes, scheduled ? &pair_schedule : nullptr);
-  if (settings.warm_start) {
+  if (settings.warm_start && apply_warm_start) {
     if (scheduled) detail::apply_warm_start(sb, pairs, planes, pair_schedule);
     else detail::apply_warm_start(sb, pairs, planes);
   }
   const detail::SolveResult r = detail::solve_contacts(sb, pairs, planes, settings.iterations,
                                                        settings.converged_pen_over_radius, conflict_limit,
                                                        pair_schedule, scheduled);
-  stats.iterations_used = r.iterations_used;
-  stats.band_sweeps = r.band_sweeps;
-  stats.band_sweeps_skipped = r.band_sweeps_skipped;
-  stats.max_pen_over_radius = r.max_pen_over_radius;
+  // The tick's solver figures are its first solve's (a second one is counted in second_search).
+  if (!second_solve) {
+    stats.iterations_used = r.iterations_used;
+    stats.band_sweeps = r.band_sweeps;
+    stats.band_sweeps_skipped = r.band_sweeps_skipped;
+    stats.max_pen_over_radius = r.max_pen_over_radius;
+  }
   const std::vector<std::uint32_t>& order = solver_order;
   for (std::size_t s = 0; s < n; ++s) {
     const std::uint32_t i = order[s];
@@ -243,13 +277,15 @@ void World::Impl::solve() {
 void World::Impl::store_warm_start_and_events() {
   std::fill(bodies.warm_count.begin(), bodies.warm_count.end(), 0);
   const std::vector<std::uint32_t>& order = solver_order;
-  const bool record = settings.record_push_events;
+  // The push events describe the tick's first solve (its start depths, shares and pushes); the
+  // second solve's pushes, which include the first's, are what the next tick starts from.
+  const bool record = settings.record_push_events && !second_solve;
   // Room for an event per pair and plane: the buffer only grows (warm-up); event_count says how
   // many this tick holds.
   const std::size_t most = (sb.displaced ? pair_schedule.fast_size() + pair_schedule.slow.size() : pairs.size()) +
                            planes.size();
   if (record && events.size() < most) events.resize(most);
-  event_count = 0;
+  if (record) event_count = 0;
   // A kept pair list keeps each pair's push as the cache does (zero where the cache cannot).
   float* list_lambda = list.valid ? list.lambda.data() : nullptr;
   const std::uint32_t* list_entry = list.of_pair.data();
@@ -266,9 +302,11 @@ void World::Impl::store_warm_start_and_events() {
   if (sb.displaced) {
     // A scheduled solve left the fast pairs' pushes in the schedule: read them there, in schedule
     // order (sequential; copying them back into the pair list first was a random write per pair).
-    event_count = detail::store_fast_pushes(pair_schedule, sb,
-                                            {order.data(), bodies.warm.data(), bodies.warm_count.data(), list_lambda,
-                                             list_entry, record ? events.data() : nullptr});
+    const std::size_t fast_events =
+        detail::store_fast_pushes(pair_schedule, sb,
+                                  {order.data(), bodies.warm.data(), bodies.warm_count.data(), list_lambda, list_entry,
+                                   record ? events.data() : nullptr});
+    if (record) event_count = fast_events;
     for (const std::uint32_t k : pair_schedule.slow) keep_pair(k);
   } else {
     for (std::uint32_t k = 0; k < pairs.size(); ++k) keep_pair(k);

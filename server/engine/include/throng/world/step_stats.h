@@ -21,6 +21,9 @@ struct StepStats {
   std::uint32_t iterations_used = 0;
   std::uint32_t capped_bodies = 0;     // bodies that hit max_candidates_per_body
   std::uint32_t tunnel_clamps = 0;     // fast moves shortened by the swept test
+  // 1 when the solve moved a body further than the contact margin and the tick searched again and
+  // went on solving with the pairs found there (World::step).
+  std::uint32_t second_search = 0;
   std::uint32_t pile_relief_bodies = 0;  // bodies laid out afresh from a degenerate pile
   // Deepest pair or plane met during the last sweep, before that sweep's own corrections (so it
   // reads higher than an after-tick measurement; throng-bench reports both).
