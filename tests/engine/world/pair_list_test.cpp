@@ -152,7 +152,7 @@ TEST(PairList, SearchTickGivesThePlainSearchsBits) {
 // The schedule of a kept tick comes straight from the list's records (schedule_list_pairs), whose
 // shares and warm-start caps are refreshed when a resistance changes; the general path builds it
 // from SolverPairs (slot_fields). Both must fill every slot with the same bits, with warm pushes
-// above the general cap (where a pair's share decides whether it carries them, fast_warm_cap),
+// above the general cap (fast_warm_cap),
 // on a kept tick right after weights changed under the list (its shares had gone stale).
 TEST(PairList, ListAndPairSourcesFillTheSameSchedule) {
   WorldSettings settings;
@@ -178,8 +178,9 @@ TEST(PairList, ListAndPairSourcesFillTheSameSchedule) {
     const StepStats& st = w.step();
     if (!kept_before || st.pair_list_reused == 0 || !m.pairs_in_list) continue;
     compared = true;
-    // Pushes of 3 r on every taken entry: above the general cap, below the carried one.
-    for (std::size_t k = 0; k < m.list.live; ++k) m.list.lambda[m.list.of_pair[k]] = 3.0f * 0.35f;
+    // Pushes of 3 r (above the general cap, below the fast pairs' one) and 12 r (above both) on
+    // alternate taken entries.
+    for (std::size_t k = 0; k < m.list.live; ++k) m.list.lambda[m.list.of_pair[k]] = (k % 2 == 0 ? 3.0f : 12.0f) * 0.35f;
     m.schedule_list_pairs(settings.conflict_share_limit);
     const detail::PairSchedule from_list = m.pair_schedule;
     m.materialize_list_pairs();
@@ -204,7 +205,7 @@ TEST(PairList, ListAndPairSourcesFillTheSameSchedule) {
     int carried = 0, cut = 0;
     for (const float v : from_list.lambda) {
       carried += v == 3.0f * 0.35f;
-      cut += v == static_cast<float>(detail::kWarmStartCapOverRadius * 0.35);
+      cut += v == static_cast<float>(detail::kFastWarmStartCapOverRadius * 0.35);
     }
     EXPECT_GT(carried, 100);
     EXPECT_GT(cut, 100);

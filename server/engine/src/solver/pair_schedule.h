@@ -44,14 +44,10 @@ inline constexpr double kWarmStartCapOverRadius = 0.5;
 // The fast pairs' cap (fast_pair_kernel.h): their warm start is a sum along fixed normals and can
 // carry a packed crowd's pressure, which grows towards its middle (several radii per pair in the
 // core). Cut at 0.5 r the core had to be rebuilt every tick; 8 r carries the crush's core, and
-// larger caps only made `mixed` worse (docs/design/solver.md, "Warm start").
+// larger caps only made `mixed` worse (docs/design/solver.md, "Warm start"). Every fast pair
+// carries it, whatever its share: pressure in a crowd of unequal weights crosses the pairs of a
+// heavy and a light body too (docs/design/solver.md, "Carried pressure").
 inline constexpr double kFastWarmStartCapOverRadius = 8.0;
-// Only pairs that share their push carry it beyond the general cap: a pair whose share is outside
-// [kCarriedShareMin, 1 - kCarriedShareMin] moves one body by nearly all of its warm push, and a
-// heavy body's push carried into a tick whose geometry has moved on (`mixed`: giants and riders
-// among foot) shoves the light one past pairs the solve does not have. It more than halves
-// `mixed`'s worst pair and leaves a crowd of one weight unaffected (docs/design/solver.md).
-inline constexpr double kCarriedShareMin = 0.25;
 
 // The warm start is a guess: last tick's pushes along this tick's normals. Where the pushes on a
 // body balance (a packed crowd's pressure) they move it little, however large each is; where
@@ -65,13 +61,10 @@ inline constexpr double kCarriedShareMin = 0.25;
 // get through (the worst-tick figures per cap are in docs/design/solver.md).
 inline constexpr double kWarmStartMoveCapOverRadius = 0.1;
 
-// A fast pair's warm-start cap in metres, from its own share (double, as SolverPair::share_a) and
-// its smaller radius. Both schedule sources (pair_schedule_build.h, the kept list's records in
-// world_pair_list.cpp) call this, so a pair gets the same cap bits either way (tested).
-inline double fast_warm_cap(double share_a, double r_min) {
-  const bool carried = share_a >= kCarriedShareMin && share_a <= 1.0 - kCarriedShareMin;
-  return (carried ? kFastWarmStartCapOverRadius : kWarmStartCapOverRadius) * r_min;
-}
+// A fast pair's warm-start cap in metres, from its smaller radius. Both schedule sources
+// (pair_schedule_build.h, the kept list's records in world_pair_list.cpp) call this, so a pair gets
+// the same cap bits either way (tested).
+inline double fast_warm_cap(double r_min) { return kFastWarmStartCapOverRadius * r_min; }
 
 // A scheduled sweep leaves out a band once no band sharing a body with it changed a push (pushed
 // or gave back) by this fraction of the smaller radius or more in its last sweep (after the first

@@ -33,7 +33,7 @@ inline SlotFields slot_fields(std::uint32_t a, std::uint32_t b, double target, d
           static_cast<float>(target),
           resolved_once ? std::clamp(share, conflict_lo, conflict_hi) : share,
           share,
-          capped_warm_push(lambda, fast_warm_cap(share_a, r_min)),
+          capped_warm_push(lambda, fast_warm_cap(r_min)),
           static_cast<float>(1.0 / r_min)};
 }
 

@@ -142,7 +142,7 @@ struct World::Impl {
     struct Slot {
       std::uint32_t a, b;
       float target, share, inv_r_min;
-      double warm_cap;  // fast_warm_cap(share, smaller radius), set by refresh_list_shares
+      double warm_cap;  // fast_warm_cap(smaller radius), set by refresh_list_shares
     };
     std::vector<Slot> slot;
     std::vector<double> x, y, z;       // positions of the search, solver order

@@ -187,13 +187,13 @@ bool World::Impl::search_pair_list(const double* x, const double* y, const doubl
 }
 
 // The entries' shares from the resistances (the list is kept only where nothing else enters one),
-// and the warm-start caps that depend on them.
+// and their warm-start caps.
 void World::Impl::refresh_list_shares() {
   PairList& l = list;
   for (std::size_t e = 0; e < l.a.size(); ++e) {
     l.share[e] = params::share_a_fast(bodies.resistance[solver_order[l.a[e]]], bodies.resistance[solver_order[l.b[e]]]);
     l.slot[e].share = static_cast<float>(l.share[e]);
-    l.slot[e].warm_cap = detail::fast_warm_cap(l.share[e], std::min(sb.r[l.a[e]], sb.r[l.b[e]]));
+    l.slot[e].warm_cap = detail::fast_warm_cap(std::min(sb.r[l.a[e]], sb.r[l.b[e]]));
   }
   l.shares_stale = false;
 }
