@@ -55,11 +55,17 @@ const StepStats& World::step() {
     w.store_warm_start_and_events();
     w.list.drop();
     w.second_solve = true;
+    // The tick's search figures stay the first search's (as its solver figures do), except that a
+    // capped second search is still reported.
+    const StepStats first = w.stats;
     w.fine_grid(w.bodies.x.data(), w.bodies.y.data(), w.bodies.z.data(), false);
     w.search_candidates();
     w.setup_pairs();
     w.build_scenery_planes();
     w.solve(false);
+    w.stats.candidate_pairs = first.candidate_pairs;
+    w.stats.scenery_planes = first.scenery_planes;
+    w.stats.capped_bodies = std::max(first.capped_bodies, w.stats.capped_bodies);
     w.stats.second_search = 1;
   }
   w.store_warm_start_and_events();
