@@ -45,6 +45,7 @@ struct Cli {
   std::uint64_t residual_from = 61;
   std::string trace;
   double carry = -1.0;  // < 0: the scene's blocked_motion_carry
+  std::uint32_t threads = 1;
 };
 
 // The scene the flags describe: built-in or file, then --agents / --iterations / --policy / --params.
@@ -54,6 +55,7 @@ throng::scene::SceneDef scene_from_flags(const std::string& name, const Cli& c, 
   if (app.count("--agents")) def = throng::scene::scale_scene(def, c.agents);
   if (app.count("--iterations")) def.settings.iterations = c.iterations;
   if (app.count("--carry")) def.settings.blocked_motion_carry = c.carry;
+  def.settings.threads = c.threads;
   if (!c.policy.empty()) def.policy = {c.policy, nullptr};
   if (!c.params.empty()) def.params = {c.params, nullptr};
   return def;
@@ -104,6 +106,10 @@ int main(int argc, char** argv) {
                  "blocked_motion_carry for this run (0: every agent steps its full speed into the jam every tick, as "
                  "in other engines; default: the scene's)")
       ->check(CLI::Range(0.0, 1.0));
+  app.add_option("--threads", c.threads,
+                 "threads that sweep the crowd solve (the state hash is the same for any number)")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 64u));
   app.add_option("--residual-from", c.residual_from,
                  "measure the residual every tick from this one (counted from 1, warm-up included) and report the "
                  "worst; 0 = only after the last tick")

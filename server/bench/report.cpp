@@ -5,8 +5,8 @@
 namespace throng::bench {
 
 void print_summary(std::FILE* out, const RunResult& r) {
-  fmt::print(out, "scene      {} ({} agents, {} ticks after {} warmup, {} iterations)\n", r.scene, r.agents, r.ticks,
-             r.warmup, r.iterations);
+  fmt::print(out, "scene      {} ({} agents, {} ticks after {} warmup, {} iterations, {} thread{})\n", r.scene, r.agents,
+             r.ticks, r.warmup, r.iterations, r.threads, r.threads == 1 ? "" : "s");
   fmt::print(out, "tick       median {:.0f} us, p95 {:.0f} us, max {:.0f} us ({:.3f} us per agent)\n", r.tick_us.median,
              r.tick_us.p95, r.tick_us.max, r.us_per_agent());
   fmt::print(out, "tick cpu   median {:.0f} us, p95 {:.0f} us (thread CPU time: not inflated by waiting for a core)\n",

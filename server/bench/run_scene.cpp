@@ -56,6 +56,7 @@ RunResult run_scene(const scene::SceneDef& def, const RunOptions& options) {
   r.ticks = options.ticks;
   r.warmup = options.warmup;
   r.iterations = def.settings.iterations;
+  r.threads = def.settings.threads;
   const auto t_build = Clock::now();
   scene::BuiltScene built = scene::build_scene(def);
   r.build_s = seconds_since(t_build);
@@ -146,6 +147,7 @@ nlohmann::ordered_json to_json(const RunResult& r) {
   j["ticks"] = r.ticks;
   j["warmup"] = r.warmup;
   j["iterations"] = r.iterations;
+  j["threads"] = r.threads;
   j["tick_us"] = {{"median", r.tick_us.median}, {"p95", r.tick_us.p95}, {"max", r.tick_us.max}, {"mean", r.tick_us.mean}};
   j["tick_cpu_us"] = {{"median", r.tick_cpu_us.median}, {"p95", r.tick_cpu_us.p95}, {"max", r.tick_cpu_us.max},
                       {"mean", r.tick_cpu_us.mean}};

@@ -52,6 +52,7 @@ struct RunResult {
   std::uint64_t ticks = 0;
   std::uint64_t warmup = 0;
   std::uint32_t iterations = 0;
+  std::uint32_t threads = 1;
   Percentiles tick_us;        // StepStats.total_us over the measured ticks
   // The same World::step() timed with the thread's CPU clock: on a shared build machine the wall
   // clock also counts the time the thread waited for a core, which inflates medians several-fold.

@@ -62,12 +62,14 @@ TEST(WorldNoAllocation, SettledCrowdTicksWithoutAllocating) {
 
 // An open crowd (no scenery) keeps its pair list across ticks and searches a new one now and then
 // (world_pair_list.cpp): neither allocates once the crowd has settled into its jam.
-TEST(WorldNoAllocation, OpenCrowdWithAKeptPairListTicksWithoutAllocating) {
+void open_crowd_ticks_without_allocating(int side, std::uint32_t threads) {
   WorldSettings s;
   s.iterations = 8;
+  s.threads = threads;
   World w(s, test_table(), weight_policy(params::PushMode::ratio, 100.0));
-  for (int i = 0; i < 40; ++i) {
-    for (int j = 0; j < 40; ++j) add_sphere(w, -13.0 + 0.66 * i, -13.0 + 0.66 * j, 0.35, (i + j) % 3 ? "infantry" : "heavy");
+  const double half = 0.33 * side;
+  for (int i = 0; i < side; ++i) {
+    for (int j = 0; j < side; ++j) add_sphere(w, -half + 0.66 * i, -half + 0.66 * j, 0.35, (i + j) % 3 ? "infantry" : "heavy");
   }
   for (int t = 0; t < 200; ++t) {
     steer_to_origin(w);
@@ -87,6 +89,12 @@ TEST(WorldNoAllocation, OpenCrowdWithAKeptPairListTicksWithoutAllocating) {
   EXPECT_GT(kept, 0u);
   EXPECT_GT(searched, 0u);
 }
+
+TEST(WorldNoAllocation, OpenCrowdWithAKeptPairListTicksWithoutAllocating) { open_crowd_ticks_without_allocating(40, 1); }
+
+// The same on two threads, with enough bodies for several blocks a phase (pair_schedule.h): the
+// pool hands out work without allocating, and its threads allocate nothing either.
+TEST(WorldNoAllocation, TwoThreadsTickWithoutAllocating) { open_crowd_ticks_without_allocating(110, 2); }
 
 }  // namespace
 }  // namespace throng

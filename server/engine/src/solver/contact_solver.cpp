@@ -7,6 +7,7 @@
 #include "solver/fast_pair_kernel.h"
 #include "solver/pair_projection.h"
 #include "solver/plane_projection.h"
+#include "solver/worker_pool.h"
 
 namespace throng::detail {
 namespace {
@@ -75,22 +76,38 @@ void apply_warm_start(SolverBodies& b, std::vector<SolverPair>& pairs, const std
 }
 
 void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
-                      PairSchedule& schedule) {
+                      PairSchedule& schedule, WorkerPool* pool) {
+  bodies.ensure_pad_slots(schedule.band_count());
   const BodyPtrs b(bodies);
-  for (const PairSchedule::Level& lv : schedule.levels) {
-    warm_start_fast_range(b, schedule, lv.fast_begin, lv.fast_end);
-    for (std::uint32_t k = lv.slow_begin; k < lv.slow_end; ++k) warm_start_pair(bodies, pairs[schedule.slow[k]], planes);
-  }
-  // The displacements start at zero, so u is the warm start's move.
-  float* u = bodies.u.data();
-  for (std::size_t i = 0; i < bodies.size(); ++i) {
-    const double dx = u[2 * i], dy = u[2 * i + 1];
-    const double f = move_cut(dx, dy, bodies.r[i]);
-    if (f < 1.0) {
-      u[2 * i] = static_cast<float>(dx * f);
-      u[2 * i + 1] = static_cast<float>(dy * f);
+  // In the sweep's forward order (block by block, phase by phase; see for_each_block).
+  for_each_block(schedule, pool, true, [&](std::uint32_t k) {
+    const std::uint32_t l0 = schedule.band_level[schedule.block_band[k]];
+    const std::uint32_t l1 = schedule.band_level[schedule.block_band[k + 1]];
+    for (std::uint32_t l = l0; l < l1; ++l) {
+      const PairSchedule::Level& lv = schedule.levels[l];
+      warm_start_fast_range(b, schedule, lv.fast_begin, lv.fast_end);
+      for (std::uint32_t j = lv.slow_begin; j < lv.slow_end; ++j) warm_start_pair(bodies, pairs[schedule.slow[j]], planes);
     }
-  }
+  });
+  // The displacements start at zero, so u is the warm start's move. Each body on its own: shared
+  // out in fixed ranges.
+  float* u = bodies.u.data();
+  const std::size_t n = bodies.size();
+  constexpr std::size_t kBodiesPerTask = 8192;
+  auto cut = [&](std::uint32_t t) {
+    const std::size_t end = std::min(n, (t + 1) * kBodiesPerTask);
+    for (std::size_t i = t * kBodiesPerTask; i < end; ++i) {
+      const double dx = u[2 * i], dy = u[2 * i + 1];
+      const double f = move_cut(dx, dy, bodies.r[i]);
+      if (f < 1.0) {
+        u[2 * i] = static_cast<float>(dx * f);
+        u[2 * i + 1] = static_cast<float>(dy * f);
+      }
+    }
+  };
+  const auto tasks = static_cast<std::uint32_t>((n + kBodiesPerTask - 1) / kBodiesPerTask);
+  if (pool != nullptr) pool->run(tasks, cut);
+  else for (std::uint32_t t = 0; t < tasks; ++t) cut(t);
 }
 
 double pair_depth(const SolverBodies& b, const SolverPair& p) {
@@ -112,15 +129,16 @@ void measure_start_depths(const SolverBodies& b, std::vector<SolverPair>& pairs,
 
 SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
                            std::uint32_t iterations, double converged, double conflict_limit, PairSchedule& schedule,
-                           bool scheduled) {
+                           bool scheduled, WorkerPool* pool) {
   SolveResult result;
+  if (scheduled) bodies.ensure_pad_slots(schedule.band_count());
   const BodyPtrs b(bodies);
   double worst = 0.0;
   // Most crowds touch no scenery at all; skip the per-pair pinned test for them.
   const bool any_planes = !planes.empty();
   // Pairs with an airborne body or a body against scenery (see pair_schedule.h), and every pair
-  // of an unscheduled solve.
-  auto project_slow = [&](SolverPair& p) {
+  // of an unscheduled solve. `worst` is the caller's: a block's own when blocks run side by side.
+  auto project_slow = [&](SolverPair& p, double& deepest) {
     double share = p.share_a;
     if (p.resolved_once != 0 && conflict_limit > 0.0) share = std::clamp(share, conflict_limit, 1.0 - conflict_limit);
     if (any_planes) share = pinned_share(bodies, planes, p, share);
@@ -128,21 +146,20 @@ SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs,
     if (pen > 0.0) {
       p.resolved_once = 1;
       const double r_min = std::min(b.r[p.a], b.r[p.b]);
-      if (pen > worst * r_min) worst = pen / r_min;  // divide only for a new maximum
+      if (pen > deepest * r_min) deepest = pen / r_min;  // divide only for a new maximum
     }
   };
-  // Scheduled: a sweep visits the bands of pair_schedule.h in order (or in reverse), each band's
-  // levels in order (or in reverse): with every band visited, exactly the levels in order. A
-  // band's activity is the largest change of push (push or pull) it made in the sweep, over the
+  // Scheduled: a sweep visits the bands of pair_schedule.h block by block (sweep_scheduled), each
+  // band's levels in order (or in reverse). A band's deepest pair goes to `deepest`; its activity is the largest change of push (push or pull) it made in the sweep, over the
   // smaller radius: a band whose pairs only gave back pushes moved its bodies too.
-  auto project_band = [&](std::size_t c, bool forward) {
+  auto project_band = [&](std::size_t c, bool forward, double& deepest) {
     float moved = 0.0f;
     auto project_level = [&](const PairSchedule::Level& lv) {
-      worst = std::max(worst, static_cast<double>(project_fast_range(b, schedule, lv.fast_begin, lv.fast_end, moved)));
+      deepest = std::max(deepest, static_cast<double>(project_fast_range(b, schedule, lv.fast_begin, lv.fast_end, moved)));
       for (std::uint32_t k = lv.slow_begin; k < lv.slow_end; ++k) {
         SolverPair& p = pairs[schedule.slow[k]];
         const double lambda_before = p.lambda;
-        project_slow(p);
+        project_slow(p, deepest);
         moved = std::max(moved, static_cast<float>(std::fabs(p.lambda - lambda_before) / std::min(b.r[p.a], b.r[p.b])));
       }
     };
@@ -158,13 +175,30 @@ SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs,
       // padded ranges back to back (one call per band instead of one per level of ~25 pairs).
       const float w = forward ? project_fast_span<false>(b, schedule, first.fast_begin, last.fast_end, moved)
                               : project_fast_span<true>(b, schedule, first.fast_begin, last.fast_end, moved);
-      worst = std::max(worst, static_cast<double>(w));
+      deepest = std::max(deepest, static_cast<double>(w));
     } else if (forward) {
       for (std::uint32_t l = l0; l < l1; ++l) project_level(schedule.levels[l]);
     } else {
       for (std::uint32_t l = l1; l > l0; --l) project_level(schedule.levels[l - 1]);
     }
     schedule.band_activity[c] = moved;
+  };
+  // One block's bands (pair_schedule.h, PairSchedule::block_band), in order or in reverse; its
+  // deepest pair goes to block_worst, as blocks of one phase may run on several threads.
+  auto sweep_block = [&](std::uint32_t k, bool forward) {
+    double block_worst = 0.0;
+    const std::uint32_t c0 = schedule.block_band[k], c1 = schedule.block_band[k + 1];
+    if (forward) {
+      for (std::uint32_t c = c0; c < c1; ++c) if (schedule.band_swept[c]) project_band(c, true, block_worst);
+    } else {
+      for (std::uint32_t c = c1; c > c0; --c) if (schedule.band_swept[c - 1]) project_band(c - 1, false, block_worst);
+    }
+    schedule.block_worst[k] = block_worst;
+  };
+  auto sweep_scheduled = [&](bool forward) {
+    for_each_block(schedule, pool, forward, [&](std::uint32_t k) { sweep_block(k, forward); });
+    // The largest of the blocks' maxima: the same whichever thread swept which block.
+    for (const double w : schedule.block_worst) worst = std::max(worst, w);
   };
   const std::size_t nb = scheduled ? schedule.band_count() : 0;
   // Calm bands are left out once the pressure has had kFullSweeps sweeps to spread (see
@@ -193,10 +227,9 @@ SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs,
     result.band_sweeps += static_cast<std::uint32_t>(nb);
     // Without a schedule (see wants_schedule) the pairs' own order, alternating; with one, the
     // levels (pairs of one level share no body, so only the order of the levels matters).
-    if (!scheduled && it % 2 == 0) for (SolverPair& p : pairs) project_slow(p);
-    else if (!scheduled) for (std::size_t k = pairs.size(); k > 0; --k) project_slow(pairs[k - 1]);
-    else if (it % 2 == 0) { for (std::size_t c = 0; c < nb; ++c) if (schedule.band_swept[c]) project_band(c, true); }
-    else { for (std::size_t c = nb; c > 0; --c) if (schedule.band_swept[c - 1]) project_band(c - 1, false); }
+    if (!scheduled && it % 2 == 0) for (SolverPair& p : pairs) project_slow(p, worst);
+    else if (!scheduled) for (std::size_t k = pairs.size(); k > 0; --k) project_slow(pairs[k - 1], worst);
+    else sweep_scheduled(it % 2 == 0);
     // Fixed bodies last in every sweep: they always win, and the final state honours them exactly.
     for (std::size_t i = 0; any_planes && i < bodies.size(); ++i) {
       if (bodies.plane_count[i] == 0) continue;

@@ -12,6 +12,8 @@
 
 namespace throng::detail {
 
+class WorkerPool;
+
 struct SolveResult {
   std::uint32_t iterations_used = 0;
   double max_pen_over_radius = 0.0;  // deepest pair or plane seen in the last sweep
@@ -24,11 +26,11 @@ struct SolveResult {
 // then cuts every body's net warm-start move to kWarmStartMoveCapOverRadius of its radius (see
 // there).
 void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes);
-// The same for a scheduled solve, in the schedule's level order (each body's pairs in their
-// relative order, without each pair waiting on the previous one), on the float displacements; the
+// The same for a scheduled solve, in the order of its forward sweep (for_each_block: the blocks of a
+// phase on the pool's threads, the same bits for any number), on the float displacements; the
 // fast pairs' lambda is then the schedule's copy.
 void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
-                      PairSchedule& schedule);
+                      PairSchedule& schedule, WorkerPool* pool = nullptr);
 
 // Which of the two solves a tick gets (see solve_contacts). It changes the bits (the scheduled
 // solve carries displacements in float), so it is a function of the saved state only: the pair
@@ -73,13 +75,15 @@ inline double fast_pair_start_depth(const SolverBodies& bodies, const PairSchedu
 // conflict_share_limit > 0 clamps the share of every push after a pair's first one in a tick into
 // [limit, 1 - limit] (see WorldSettings::conflict_share_limit); 0 keeps the exact share throughout.
 // Unscheduled, the sweeps visit the pairs in their own order, moving the double positions. Scheduled
-// (`schedule` built for these pairs, bodies.displaced set), they visit the levels of
-// pair_schedule.h, which keep every body's pairs in their relative order without each projection
-// waiting for the previous one, and move the bodies' float displacements (SolverBodies::u). The
-// fast pairs' pushes are then in schedule.lambda (write_back_pair_schedule copies them into
-// `pairs`); the slow pairs' are in `pairs`.
+// (`schedule` built for these pairs, bodies.displaced set), they visit the bands of pair_schedule.h
+// block by block, phase by phase (PairSchedule::block_band): within a block every body's pairs
+// keep their relative order and no projection waits for the previous one; blocks of one phase
+// share no body. They move the bodies' float displacements (SolverBodies::u). The fast pairs'
+// pushes are then in schedule.lambda (write_back_pair_schedule copies them into `pairs`); the slow
+// pairs' are in `pairs`. With a pool, the blocks of a phase are shared among its threads: the same
+// bits as without one, for any number of threads.
 SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
                            std::uint32_t iterations, double converged_pen_over_radius, double conflict_share_limit,
-                           PairSchedule& schedule, bool scheduled);
+                           PairSchedule& schedule, bool scheduled, WorkerPool* pool = nullptr);
 
 }  // namespace throng::detail

@@ -7,8 +7,8 @@
 namespace throng::detail {
 
 void build_pair_schedule(const SolverBodies& bodies, const std::vector<SolverPair>& pairs, double conflict_limit,
-                         PairSchedule& s) {
-  build_pair_schedule_from(bodies, SolverPairSource{pairs}, conflict_limit, s);
+                         PairSchedule& s, WorkerPool* pool) {
+  build_pair_schedule_from(bodies, SolverPairSource{pairs}, conflict_limit, s, pool);
 }
 
 std::uint32_t PairSchedule::choose_bands(float calm) {

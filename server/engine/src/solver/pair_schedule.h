@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "solver/solver_data.h"
+#include "solver/worker_pool.h"
 
 namespace throng::detail {
 
@@ -36,6 +37,13 @@ namespace throng::detail {
 // calm (kCalmPushOverRadius), and smaller bands cut the calm rim more finely; 2,048 was the
 // fastest of the sizes measured (docs/design/solver.md, "The pair schedule and the caps").
 inline constexpr std::size_t kScheduleChunkPairs = 2048;
+
+// Bands are swept in blocks of this many consecutive bands, and blocks that share no body run side
+// by side (PairSchedule::phase_block). Within a block a sweep still carries pressure from band to
+// band in one pass; between blocks it takes a phase. Four keeps a 100,000-body crush's ~60 bands in
+// ~15 blocks (enough to share among four threads) while a 5,000-body crowd is one block and sweeps
+// exactly as one list of bands (docs/design/solver.md, "Threads").
+inline constexpr std::size_t kBlockBands = 4;
 
 // Warm-start pushes above this fraction of the smaller radius are cut back (see apply_warm_start
 // in contact_solver.cpp): the general pairs' cap, whose projection re-takes the pair's direction
@@ -94,6 +102,23 @@ struct PairSchedule {
   // bands they overlap) have wide ranges.
   std::vector<std::uint32_t> band_level;
   std::vector<std::uint32_t> band_wake_lo, band_wake_hi;
+
+  // The sweep's order of the bands, the same for any number of threads. Block k holds bands
+  // [block_band[k], block_band[k + 1]) (kBlockBands of them). Blocks are coloured greedily in
+  // order so that blocks of one colour share no body (their bands' body ranges do not overlap);
+  // phase p holds the blocks phase_block[phase_begin[p], phase_begin[p + 1]), the blocks of colour
+  // p in increasing order. A forward sweep runs the phases in order, each block's bands in order;
+  // a reverse sweep the phases in reverse, each block's bands in reverse. The blocks of one phase
+  // touch disjoint bodies (and their own padding bodies, SolverBodies::pad_body), so they can run
+  // in any order or at once and compute the same bits. A crowd of one size has two colours,
+  // alternate blocks; the blocks of larger bodies' pairs overlap many and get colours of their own.
+  std::vector<std::uint32_t> block_band;
+  std::vector<std::uint32_t> phase_begin, phase_block;
+  std::size_t block_count() const { return block_band.empty() ? 0 : block_band.size() - 1; }
+  std::size_t phase_count() const { return phase_begin.empty() ? 0 : phase_begin.size() - 1; }
+  // Block k's fast pairs: one range, as the bands' levels follow each other.
+  std::uint32_t block_fast_begin(std::size_t k) const { return levels[band_level[block_band[k]]].fast_begin; }
+  std::uint32_t block_fast_end(std::size_t k) const { return levels[band_level[block_band[k + 1]] - 1].fast_end; }
   // kCalmPushOverRadius, or 0 to visit every band in every sweep (tests compare the two).
   float calm_push_over_radius = kCalmPushOverRadius;
   // Scratch for solve_contacts: each band's largest change of push over the smaller radius in its
@@ -126,10 +151,22 @@ struct PairSchedule {
   std::vector<std::uint32_t> slow;     // other pairs in level order: indices in the caller's list
 
   // Scratch.
-  std::vector<std::uint32_t> next_level;  // per body: the first level its next pair may take
-  std::vector<std::uint32_t> pair_level;  // per pair
+  // Per thread and body: the first level the body's next pair in the band may take (low 32 bits,
+  // counted from the band's first level), valid only under the band's stamp (high 32 bits), so
+  // that no array is cleared per band or per build (stamp_base moves on by the band count).
+  std::vector<std::vector<std::uint64_t>> level_stamp;
+  std::uint32_t stamp_base = 0;
+  std::vector<std::uint32_t> pair_level;  // per pair, from its band's first level, kSlow bit set if slow
+  // Per band: its level count, fast pair count, and each of its levels' fast / slow pair counts
+  // (band c's at c * kScheduleChunkPairs: a band has at most that many levels).
+  std::vector<std::uint32_t> band_levels, band_fast_pairs;
+  std::vector<std::uint32_t> band_level_fast, band_level_slow;
   std::vector<std::uint32_t> fast_count, slow_count;
   std::vector<std::uint32_t> band_body_lo, band_body_hi;  // solver index range of each band's bodies
+  std::vector<std::uint32_t> block_body_lo, block_body_hi, block_colour;
+  std::vector<std::uint8_t> colour_taken;
+  std::vector<double> block_worst;  // solve_contacts: each block's deepest pair of the sweep
+  std::vector<std::uint32_t> block_events;  // store_fast_pushes: each block's first event
 
   std::size_t fast_size() const { return a.size(); }  // including the padding (lambda 0)
   std::size_t band_count() const { return band_level.empty() ? 0 : band_level.size() - 1; }
@@ -140,6 +177,23 @@ struct PairSchedule {
   std::uint32_t choose_bands(float calm);
 };
 
+// Runs fn(k) for every block k of `s`, phase by phase (in order, or in reverse when !forward), the
+// blocks of a phase on the pool's threads (in increasing order without a pool). Blocks of one phase
+// share no body, so what fn does to its block's bodies and pairs comes out the same bits however
+// the blocks are shared out; the phases are barriers.
+template <class Fn>
+void for_each_block(const PairSchedule& s, WorkerPool* pool, bool forward, Fn&& fn) {
+  const std::size_t phases = s.phase_count();
+  for (std::size_t q = 0; q < phases; ++q) {
+    const std::size_t p = forward ? q : phases - 1 - q;
+    const std::uint32_t first = s.phase_begin[p];
+    const std::uint32_t blocks = s.phase_begin[p + 1] - first;
+    auto task = [&](std::uint32_t t) { fn(s.phase_block[first + t]); };
+    if (pool != nullptr) pool->run(blocks, task);
+    else for (std::uint32_t t = 0; t < blocks; ++t) task(t);
+  }
+}
+
 // Both bodies grounded, neither touching fixed scenery: the kernel's pairs (fast_pair_kernel.h).
 inline bool is_fast_pair(const SolverBodies& bodies, const SolverPair& p) {
   return p.target >= 0.0 && (bodies.plane_count[p.a] | bodies.plane_count[p.b]) == 0;
@@ -148,7 +202,7 @@ inline bool is_fast_pair(const SolverBodies& bodies, const SolverPair& p) {
 // Builds the schedule of `pairs` (fast copies take the pairs' current lambda, cut to the warm-start
 // cap, and share). Bodies' u must be zero (the start of the solve).
 void build_pair_schedule(const SolverBodies& bodies, const std::vector<SolverPair>& pairs, double conflict_limit,
-                         PairSchedule& s);
+                         PairSchedule& s, WorkerPool* pool = nullptr);
 
 // Copies the fast pairs' lambda back into the caller's list. A scheduled solve leaves them in the
 // schedule (the world reads them from there, in schedule order); tests compare against the list.

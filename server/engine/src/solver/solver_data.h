@@ -47,10 +47,21 @@ struct SolverBodies {
     x.resize(n); y.resize(n); z.resize(n); r.resize(n); hh.resize(n);
     grounded.resize(n); plane_begin.resize(n); plane_count.resize(n); id.resize(n);
     warm_x0.resize(n); warm_y0.resize(n);  // sized with the bodies: a solve never allocates them
-    // One spare slot (body n) for the pair schedule's padding pairs, which move it by zero.
+    // Spare slots past body n for the pair schedule's padding pairs, which move them by zero (see
+    // pad_body; ensure_pad_slots adds one per band).
     u.resize(2 * n + 2);
   }
   std::size_t size() const { return x.size(); }
+
+  // The body that band c's padding pairs move (by zero). One per band, a cache line apart, so that
+  // bands swept side by side on two threads (WorkerPool) never write the same line.
+  static constexpr std::size_t kPadStride = 8;
+  std::uint32_t pad_body(std::size_t band) const { return static_cast<std::uint32_t>(size() + kPadStride * band); }
+  // Room in u for the padding bodies of `bands` bands (grows only at warm-up; new slots are zero).
+  void ensure_pad_slots(std::size_t bands) {
+    const std::size_t need = 2 * (size() + kPadStride * bands) + 2;
+    if (u.size() < need) u.resize(need, 0.0f);
+  }
 
   // Current position of body i and a move of it, for the general code (either representation).
   double px(std::uint32_t i) const { return displaced_coord(x.data(), u.data(), displaced, i, 0); }

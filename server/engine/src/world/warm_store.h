@@ -12,7 +12,8 @@
 namespace throng::detail {
 
 // Where the pushes go. The cache (warm, warm_count: dense order, counts zeroed before) keeps each
-// push with the body of the smaller id, in schedule order, up to kWarmSlots per body.
+// push with the body of the smaller id, in the order store_fast_pushes takes the pairs, up to
+// kWarmSlots per body.
 struct WarmStoreTarget {
   const std::uint32_t* order;  // solver index -> dense index
   WarmEntry* warm;
@@ -43,7 +44,9 @@ inline float keep_warm_push(const std::uint32_t* order, WarmEntry* warm, std::ui
   return 0.0f;
 }
 
-// Stores the fast pairs' pushes; returns the number of events written.
-std::size_t store_fast_pushes(const PairSchedule& s, const SolverBodies& bodies, const WarmStoreTarget& t);
+// Stores the fast pairs' pushes, block by block (for_each_block, forward: the blocks of a phase on
+// the pool's threads); returns the number of events written, in block order.
+std::size_t store_fast_pushes(PairSchedule& s, const SolverBodies& bodies, const WarmStoreTarget& t,
+                              WorkerPool* pool = nullptr);
 
 }  // namespace throng::detail

@@ -3,6 +3,7 @@
 // internals and the solver's scratch arrays.
 #include <algorithm>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,7 @@
 #include "broadphase/point_grid.h"
 #include "solver/pair_schedule.h"
 #include "solver/solver_data.h"
+#include "solver/worker_pool.h"
 #include "throng/core/byte_io.h"
 #include "throng/geometry/static_scenery.h"
 #include "throng/params/param_table.h"
@@ -76,6 +78,7 @@ struct World::Impl {
   std::vector<detail::CandidatePair> candidates;
   std::vector<detail::SolverPair> pairs;
   detail::PairSchedule pair_schedule;
+  std::unique_ptr<detail::WorkerPool> pool;  // WorldSettings::threads > 1
   std::size_t warm_pairs = 0;  // pairs of this tick that start with a warm-start push
   // The second solve of a tick (World::step), and whether the first was the scheduled one.
   bool second_solve = false;

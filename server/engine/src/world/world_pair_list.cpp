@@ -320,7 +320,7 @@ void World::Impl::schedule_list_pairs(double conflict) {
     }
   };
   detail::build_pair_schedule_from(sb, Source{l.slot.data(), l.of_pair.data(), l.lambda.data(), l.live}, conflict,
-                                   pair_schedule);
+                                   pair_schedule, pool.get());
 }
 
 }  // namespace throng

@@ -25,6 +25,8 @@ void WorldSettings::validate() const {
       case detail::SettingField::Type::boolean: break;
     }
   }
+  // Not in the table: a scene file does not choose the machine's threads (see world_settings.h).
+  check(static_cast<double>(threads), 1.0, 64.0, "threads");
 }
 
 }  // namespace throng

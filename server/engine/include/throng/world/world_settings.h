@@ -54,6 +54,10 @@ struct WorldSettings {
   // refresh is spread over (1/period of the bodies are recounted each tick). [0.1, 1000] m, [1, 3600]
   double morale_radius_m = 5.0;
   std::uint32_t morale_refresh_ticks = 15;
+  // Threads that sweep the crowd solve, the caller's included. The state is the same bits for any
+  // number (the sweep's order does not depend on it), so this is the machine's choice, not the
+  // match's: no part of a scene file, a checkpoint or the state hash. [1, 64]
+  std::uint32_t threads = 1;
 
   void validate() const;
 };

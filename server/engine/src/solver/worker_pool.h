@@ -1,0 +1,69 @@
+#pragma once
+// A small fixed pool of threads for the solve (WorldSettings::threads). run(tasks, fn) calls
+// fn(task) once for every task in [0, tasks), on the pool's threads and the caller's, and returns
+// when all are done. Tasks are handed out in no fixed order: callers give it only tasks that touch
+// disjoint memory, so which thread ran which task never shows in the result.
+//
+// Why not std::async or a queue of std::function: the solve runs a few dozen parallel phases a
+// tick, each a fraction of a millisecond, and the tick must not allocate. A run is a function
+// pointer, a context pointer and a task counter; idle threads spin briefly (the next phase usually
+// follows within microseconds) and then sleep on the generation counter (a futex on Linux), so a
+// pool between ticks costs no CPU.
+#include <atomic>
+#include <cstdint>
+#include <thread>
+#include <type_traits>
+#include <vector>
+
+namespace throng::detail {
+
+class WorkerPool {
+ public:
+  // `threads` counts the caller: threads - 1 threads are started. [1, kMaxThreads]
+  explicit WorkerPool(unsigned threads);
+  ~WorkerPool();
+  WorkerPool(const WorkerPool&) = delete;
+  WorkerPool& operator=(const WorkerPool&) = delete;
+
+  static constexpr unsigned kMaxThreads = 64;
+
+  unsigned threads() const { return static_cast<unsigned>(workers_.size()) + 1; }
+
+  // fn(task), or fn(task, thread) with the running thread's index in [0, threads()) (0: the
+  // caller) for per-thread scratch. fn must not throw. Not reentrant: one run at a time, from one
+  // caller thread.
+  template <class Fn>
+  void run(std::uint32_t tasks, Fn& fn) {
+    if (workers_.empty() || tasks <= 1) {
+      for (std::uint32_t t = 0; t < tasks; ++t) call<Fn>(&fn, t, 0);
+      return;
+    }
+    start(tasks, &call<Fn>, &fn);
+    finish();
+  }
+
+ private:
+  using Job = void (*)(void*, std::uint32_t, unsigned);
+  template <class Fn>
+  static void call(void* ctx, std::uint32_t task, unsigned thread) {
+    if constexpr (std::is_invocable_v<Fn&, std::uint32_t, unsigned>) (*static_cast<Fn*>(ctx))(task, thread);
+    else (*static_cast<Fn*>(ctx))(task);
+  }
+  void start(std::uint32_t tasks, Job job, void* ctx);
+  void finish();
+  void drain(unsigned thread);
+  void worker_loop(unsigned thread);
+
+  // Written by the caller before the generation is bumped (release), read by the workers after
+  // they see it (acquire).
+  Job job_ = nullptr;
+  void* ctx_ = nullptr;
+  std::uint32_t tasks_ = 0;
+  alignas(64) std::atomic<std::uint64_t> generation_{0};
+  alignas(64) std::atomic<std::uint32_t> next_{0};
+  alignas(64) std::atomic<std::uint32_t> done_{0};  // workers finished with the current run
+  std::atomic<bool> stop_{false};
+  std::vector<std::thread> workers_;
+};
+
+}  // namespace throng::detail
