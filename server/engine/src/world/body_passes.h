@@ -27,6 +27,11 @@ struct MoveColumns {
   const std::uint8_t* grounded;
   double* start_x; double* start_y; double* start_z;  // written: the positions before the move
   double* moved_x; double* moved_y;                   // written: the positions after it
+  // The columns from body i on (a range of bodies for one thread).
+  MoveColumns from(std::size_t i) const {
+    return {x + i, y + i, z + i, vx + i, vy + i, vz + i, push_x + i, push_y + i, grounded + i,
+            start_x + i, start_y + i, start_z + i, moved_x + i, moved_y + i};
+  }
 };
 
 // Moves every body by its desired velocity times dt, shortened by the carry (0 = off); a grounded
@@ -42,6 +47,10 @@ struct FinishColumns {
   const double* start_x; const double* start_y; const double* start_z;
   double* push_x; double* push_y;
   double* ax; double* ay; double* az;
+  FinishColumns from(std::size_t i) const {
+    return {x + i, y + i, z + i, moved_x + i, moved_y + i, start_x + i, start_y + i, start_z + i,
+            push_x + i, push_y + i, ax + i, ay + i, az + i};
+  }
 };
 void finish_bodies(const FinishColumns& c, std::size_t n, double inv_dt);
 

@@ -79,6 +79,16 @@ struct World::Impl {
   std::vector<detail::SolverPair> pairs;
   detail::PairSchedule pair_schedule;
   std::unique_ptr<detail::WorkerPool> pool;  // WorldSettings::threads > 1
+  // fn(begin, end) over [0, n) in fixed ranges, on the pool's threads if there is one: for passes
+  // in which every body is on its own (the same bits however the ranges are shared out).
+  static constexpr std::size_t kBodiesPerTask = 16384;
+  template <class Fn>
+  void for_body_ranges(std::size_t n, Fn&& fn) {
+    const auto tasks = static_cast<std::uint32_t>((n + kBodiesPerTask - 1) / kBodiesPerTask);
+    auto task = [&](std::uint32_t t) { fn(t * kBodiesPerTask, std::min(n, (t + 1) * kBodiesPerTask)); };
+    if (pool != nullptr) pool->run(tasks, task);
+    else for (std::uint32_t t = 0; t < tasks; ++t) task(t);
+  }
   std::size_t warm_pairs = 0;  // pairs of this tick that start with a warm-start push
   // The second solve of a tick (World::step), and whether the first was the scheduled one.
   bool second_solve = false;
@@ -157,6 +167,8 @@ struct World::Impl {
     bool all_fast = false;  // every entry is between grounded bodies (no scenery: no planes either)
     std::size_t live = 0;   // entries taken this tick: of_pair[0, live)
     std::vector<detail::CandidatePair> found;  // search scratch
+    std::vector<double> range_top;  // moved_within_skin: each range's two largest displacements
+    std::vector<std::uint32_t> range_taken, range_warm;  // take_list_pairs: per range of entries
     // Anything but motion changed a pair: no list is kept, and a restored world does not search
     // the saved one again either (the saved world dropped it too).
     void drop() {
@@ -214,6 +226,7 @@ struct World::Impl {
   void refresh_list_shares();
   void schedule_list_pairs(double conflict);
   void pairs_from_list(bool gathered);  // gathered: sb already holds the bodies' positions
+  bool moved_within_skin(bool restored);
   bool relieve_piles();
   void build_scenery_planes();
   // apply_warm_start: false for the second solve of a tick, whose bodies already carry the pushes.

@@ -38,15 +38,23 @@
 namespace throng {
 namespace {
 
-// Whether no two bodies have together moved more than `skin` from (x0, y0, z0)[s] to
-// (x, y, z)[index[s]] (or [s] when index is null): the sum of the two largest displacements, which
-// does not depend on the order of the bodies (a restored world checks in dense order, a running
-// one in solver order). With `out`, also writes (x, y, z)[index[s]] to out[s] (the gather of the
-// solver's positions, in the same pass over the bodies).
-bool within_skin(std::size_t n, const double* x, const double* y, const double* z, const std::uint32_t* index,
-                 const double* x0, const double* y0, const double* z0, double skin, detail::SolverBodies* out) {
+// The two largest displacements from (x0, y0, z0)[s] to (x, y, z)[index[s]] (or [s] when index is
+// null) over bodies [begin, end), folded into (first, second). With `out`, also writes
+// (x, y, z)[index[s]] to out[s] (the gather of the solver's positions, in the same pass).
+struct TopTwo {
   double first = 0.0, second = 0.0;
-  for (std::size_t s = 0; s < n; ++s) {
+  void add(double d) {
+    if (!(d <= second)) {  // a NaN displacement (never expected) then fails the test in within_skin
+      second = std::min(d, first);
+      first = std::max(d, first);
+    }
+  }
+};
+
+void fold_displacements(std::size_t begin, std::size_t end, const double* x, const double* y, const double* z,
+                        const std::uint32_t* index, const double* x0, const double* y0, const double* z0,
+                        detail::SolverBodies* out, TopTwo& top) {
+  for (std::size_t s = begin; s < end; ++s) {
     const std::size_t i = index != nullptr ? index[s] : s;
     if (out != nullptr) {
       out->x[s] = x[i];
@@ -54,12 +62,15 @@ bool within_skin(std::size_t n, const double* x, const double* y, const double* 
       out->z[s] = z[i];
     }
     const double dx = x[i] - x0[s], dy = y[i] - y0[s], dz = z[i] - z0[s];
-    const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
-    if (!(d <= second)) {  // a NaN displacement (never expected) then fails the test below
-      second = std::min(d, first);
-      first = std::max(d, first);
-    }
+    top.add(std::sqrt(dx * dx + dy * dy + dz * dz));
   }
+}
+
+// Whether no two bodies have together moved more than `skin`: the sum of the two largest
+// displacements, which does not depend on the order of the bodies (a restored world checks in dense
+// order, a running one in solver order) nor on how the ranges are shared among threads (each
+// range's two largest, folded in range order).
+bool within_skin(double first, double second, double skin) {
   // 1 um short of the skin: the argument is exact in real numbers; this keeps the rounding of the
   // displacements and of the search's reach (positions 10 km out round to ~2e-12 m) on the safe side.
   return first + second <= skin - 1e-6;
@@ -82,13 +93,8 @@ void World::Impl::find_pairs() {
     // A restored world compares with where the saved world searched its list (dense order).
     const bool restored = list.restore_pending;
     list.restore_pending = false;
-    const bool covers =
-        restored ? list.restored_x.size() == n &&
-                       within_skin(n, bodies.x.data(), bodies.y.data(), bodies.z.data(), nullptr, list.restored_x.data(),
-                                   list.restored_y.data(), list.restored_z.data(), pair_list_skin(), nullptr)
-                 : solver_order.size() == n &&
-                       within_skin(n, bodies.x.data(), bodies.y.data(), bodies.z.data(), solver_order.data(),
-                                   list.x.data(), list.y.data(), list.z.data(), pair_list_skin(), &sb);
+    const bool covers = restored ? list.restored_x.size() == n && moved_within_skin(true)
+                                 : solver_order.size() == n && moved_within_skin(false);
     // The saved world's list, searched again where it was searched (its pushes come from the cache).
     if (covers && restored) list.valid = search_pair_list(list.restored_x.data(), list.restored_y.data(), list.restored_z.data());
     if (covers && list.valid) {
@@ -122,6 +128,32 @@ void World::Impl::find_pairs() {
     search_candidates();
     setup_pairs();
   }
+}
+
+// Whether the bodies moved within the skin since the list's search: from the saved positions of a
+// restored world (dense order), or from the kept list's (solver order, gathering the solver's
+// positions on the way).
+bool World::Impl::moved_within_skin(bool restored) {
+  const std::size_t n = bodies.size();
+  const double* x = bodies.x.data();
+  const double* y = bodies.y.data();
+  const double* z = bodies.z.data();
+  const std::uint32_t* index = restored ? nullptr : solver_order.data();
+  const double* x0 = restored ? list.restored_x.data() : list.x.data();
+  const double* y0 = restored ? list.restored_y.data() : list.y.data();
+  const double* z0 = restored ? list.restored_z.data() : list.z.data();
+  detail::SolverBodies* out = restored ? nullptr : &sb;
+  const std::size_t tasks = (n + kBodiesPerTask - 1) / kBodiesPerTask;
+  list.range_top.resize(2 * tasks);
+  for_body_ranges(n, [&](std::size_t begin, std::size_t end) {
+    TopTwo top;
+    fold_displacements(begin, end, x, y, z, index, x0, y0, z0, out, top);
+    list.range_top[2 * (begin / kBodiesPerTask)] = top.first;
+    list.range_top[2 * (begin / kBodiesPerTask) + 1] = top.second;
+  });
+  TopTwo all;
+  for (const double d : list.range_top) all.add(d);
+  return within_skin(all.first, all.second, pair_list_skin());
 }
 
 // The skin the fine grid can search (HierGrid::max_extra_margin): the configured one unless the
@@ -215,41 +247,63 @@ void World::Impl::take_list_pairs() {
   const double* x = sb.x.data();
   const double* y = sb.y.data();
   std::uint32_t* of_pair = l.of_pair.data();
-  std::size_t k = 0;
-  std::size_t warm = 0;
-  for (std::size_t e = 0; e < m; ++e) {
-    const std::uint32_t a = l.a[e], b = l.b[e];
-    // The grid's candidate test (hier_grid.cpp, scan_one) with the margin; a pair with an airborne
-    // body also tests its height gap now.
-    const double dx = x[b] - x[a];
-    const double dy = y[b] - y[a];
-    const double reach = l.reach[e];
-    bool live = !(dx * dx + dy * dy >= reach * reach);
-    if (l.target[e] < 0.0) live &= !(std::fabs(sb.z[b] - sb.z[a]) - sb.hh[a] - sb.hh[b] >= reach);
-    // Not a pair this tick: no push (a search with the margin would not look one up). Masked, not
-    // selected: the compiler made the select a branch, mispredicted as often as the test above is
-    // random. Right after a search every entry starts at 0 here and the taken ones look their push
-    // up in the cache below (looking up every entry, to keep this loop free of branches, cost a
-    // third more lookups).
-    float lambda = kFresh ? 0.0f : l.lambda[e];
-    std::uint32_t bits;
-    std::memcpy(&bits, &lambda, 4);
-    bits &= 0u - static_cast<std::uint32_t>(live);
-    std::memcpy(&lambda, &bits, 4);
-    l.lambda[e] = lambda;
-    warm += lambda > 0.0f ? 1 : 0;
-    // Written whether taken or not (the next write goes to the same slot unless it was): no branch
-    // on a test that fails for a third of the entries in no order.
-    of_pair[k] = static_cast<std::uint32_t>(e);
-    k += live ? 1 : 0;
-  }
-  if constexpr (kFresh) {
-    for (std::size_t q = 0; q < k; ++q) {
-      const std::uint32_t e = of_pair[q];
-      const float lambda = warm_push(l.a[e], l.b[e]);
+  // Fixed ranges of entries, each compacted on its own and then moved to where the earlier ranges'
+  // taken entries end: the same list for any number of threads.
+  constexpr std::size_t kEntriesPerTask = 16384;
+  const auto tasks = static_cast<std::uint32_t>((m + kEntriesPerTask - 1) / kEntriesPerTask);
+  l.range_taken.resize(tasks + 1);
+  l.range_warm.resize(tasks);
+  auto take_range = [&](std::uint32_t t) {
+    const std::size_t e0 = t * kEntriesPerTask, e1 = std::min(m, e0 + kEntriesPerTask);
+    std::size_t k = e0;  // compacted within the range's own slots first
+    std::size_t warm = 0;
+    for (std::size_t e = e0; e < e1; ++e) {
+      const std::uint32_t a = l.a[e], b = l.b[e];
+      // The grid's candidate test (hier_grid.cpp, scan_one) with the margin; a pair with an
+      // airborne body also tests its height gap now.
+      const double dx = x[b] - x[a];
+      const double dy = y[b] - y[a];
+      const double reach = l.reach[e];
+      bool live = !(dx * dx + dy * dy >= reach * reach);
+      if (l.target[e] < 0.0) live &= !(std::fabs(sb.z[b] - sb.z[a]) - sb.hh[a] - sb.hh[b] >= reach);
+      // Not a pair this tick: no push (a search with the margin would not look one up). Masked,
+      // not selected: the compiler made the select a branch, mispredicted as often as the test
+      // above is random. Right after a search every entry starts at 0 here and the taken ones look
+      // their push up in the cache below (looking up every entry, to keep this loop free of
+      // branches, cost a third more lookups).
+      float lambda = kFresh ? 0.0f : l.lambda[e];
+      std::uint32_t bits;
+      std::memcpy(&bits, &lambda, 4);
+      bits &= 0u - static_cast<std::uint32_t>(live);
+      std::memcpy(&lambda, &bits, 4);
       l.lambda[e] = lambda;
       warm += lambda > 0.0f ? 1 : 0;
+      // Written whether taken or not (the next write goes to the same slot unless it was): no
+      // branch on a test that fails for a third of the entries in no order. The slot is the
+      // range's own (k <= e < e1).
+      of_pair[k] = static_cast<std::uint32_t>(e);
+      k += live ? 1 : 0;
     }
+    if constexpr (kFresh) {
+      for (std::size_t q = e0; q < k; ++q) {
+        const std::uint32_t e = of_pair[q];
+        const float lambda = warm_push(l.a[e], l.b[e]);
+        l.lambda[e] = lambda;
+        warm += lambda > 0.0f ? 1 : 0;
+      }
+    }
+    l.range_taken[t] = static_cast<std::uint32_t>(k - e0);
+    l.range_warm[t] = static_cast<std::uint32_t>(warm);
+  };
+  if (pool != nullptr) pool->run(tasks, take_range);
+  else for (std::uint32_t t = 0; t < tasks; ++t) take_range(t);
+  // Close the gaps, in range order (a range's taken entries move down, never past a later range's).
+  std::size_t k = 0, warm = 0;
+  for (std::uint32_t t = 0; t < tasks; ++t) {
+    const std::size_t e0 = t * kEntriesPerTask;
+    if (k != e0) std::memmove(of_pair + k, of_pair + e0, l.range_taken[t] * sizeof(std::uint32_t));
+    k += l.range_taken[t];
+    warm += l.range_warm[t];
   }
   l.live = k;
   warm_pairs = warm;

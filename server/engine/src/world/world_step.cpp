@@ -89,10 +89,13 @@ void World::Impl::move_bodies() {
   const double carry = settings.blocked_motion_carry;
   if (scenery.size() == 0) {
     // Nothing can stop a move: the vectorised kernel (body_passes.cpp).
-    detail::move_free_bodies({bodies.x.data(), bodies.y.data(), bodies.z.data(), bodies.vx.data(), bodies.vy.data(),
-                              bodies.vz.data(), bodies.push_x.data(), bodies.push_y.data(), bodies.grounded.data(),
-                              start_x.data(), start_y.data(), start_z.data(), moved_x.data(), moved_y.data()},
-                             n, dt, carry);
+    const detail::MoveColumns columns{bodies.x.data(),       bodies.y.data(),      bodies.z.data(),  bodies.vx.data(),
+                                      bodies.vy.data(),      bodies.vz.data(),     bodies.push_x.data(),
+                                      bodies.push_y.data(),  bodies.grounded.data(), start_x.data(),
+                                      start_y.data(),        start_z.data(),       moved_x.data(),   moved_y.data()};
+    for_body_ranges(n, [&](std::size_t begin, std::size_t end) {
+      detail::move_free_bodies(columns.from(begin), end - begin, dt, carry);
+    });
     return;
   }
   for (std::size_t i = 0; i < n; ++i) {
@@ -162,15 +165,17 @@ bool World::Impl::fine_grid(const double* x, const double* y, const double* z, b
   sb.resize(n);
   sgroup.resize(n);
   smask.resize(n);
-  for (std::size_t s = 0; s < n; ++s) {
-    const std::uint32_t i = order[s];
-    sb.x[s] = x[i]; sb.y[s] = y[i]; sb.z[s] = z[i];
-    sb.r[s] = bodies.r[i]; sb.hh[s] = bodies.hh[i];
-    sb.grounded[s] = bodies.grounded[i];
-    sb.id[s] = bodies.id[i].value;
-    sgroup[s] = bodies.group[i];
-    smask[s] = bodies.mask[i];
-  }
+  for_body_ranges(n, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t s = begin; s < end; ++s) {
+      const std::uint32_t i = order[s];
+      sb.x[s] = x[i]; sb.y[s] = y[i]; sb.z[s] = z[i];
+      sb.r[s] = bodies.r[i]; sb.hh[s] = bodies.hh[i];
+      sb.grounded[s] = bodies.grounded[i];
+      sb.id[s] = bodies.id[i].value;
+      sgroup[s] = bodies.group[i];
+      smask[s] = bodies.mask[i];
+    }
+  });
   return relieved;
 }
 
@@ -274,12 +279,14 @@ void World::Impl::solve(bool apply_warm_start) {
     stats.max_pen_over_radius = r.max_pen_over_radius;
   }
   const std::vector<std::uint32_t>& order = solver_order;
-  for (std::size_t s = 0; s < n; ++s) {
-    const std::uint32_t i = order[s];
-    bodies.x[i] = sb.px(static_cast<std::uint32_t>(s));
-    bodies.y[i] = sb.py(static_cast<std::uint32_t>(s));
-    bodies.z[i] = sb.z[s];
-  }
+  for_body_ranges(n, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t s = begin; s < end; ++s) {
+      const std::uint32_t i = order[s];
+      bodies.x[i] = sb.px(static_cast<std::uint32_t>(s));
+      bodies.y[i] = sb.py(static_cast<std::uint32_t>(s));
+      bodies.z[i] = sb.z[s];
+    }
+  });
   verify_scenery_after_solve();
 }
 
@@ -349,10 +356,14 @@ void World::Impl::reorder_dense() {
 }
 
 void World::Impl::finish_tick() {
-  detail::finish_bodies({bodies.x.data(), bodies.y.data(), bodies.z.data(), moved_x.data(), moved_y.data(),
-                         start_x.data(), start_y.data(), start_z.data(), bodies.push_x.data(), bodies.push_y.data(),
-                         bodies.ax.data(), bodies.ay.data(), bodies.az.data()},
-                        bodies.size(), 1.0 / settings.dt_s);
+  const detail::FinishColumns columns{bodies.x.data(),      bodies.y.data(),      bodies.z.data(),  moved_x.data(),
+                                      moved_y.data(),       start_x.data(),       start_y.data(),   start_z.data(),
+                                      bodies.push_x.data(), bodies.push_y.data(), bodies.ax.data(), bodies.ay.data(),
+                                      bodies.az.data()};
+  const double inv_dt = 1.0 / settings.dt_s;
+  for_body_ranges(bodies.size(), [&](std::size_t begin, std::size_t end) {
+    detail::finish_bodies(columns.from(begin), end - begin, inv_dt);
+  });
   ++tick;
 }
 
