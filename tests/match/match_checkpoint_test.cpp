@@ -562,11 +562,15 @@ TEST_F(MatchCheckpointErrors, OtherSceneOrConfig) {
   expect_error(other_speed, saved, "another config: config hash", RestoreOptions{SnapshotBaselines::reset});
   // A truncated snapshot section is an error even when it is not read (the sections are framed).
   expect_error(target, Bytes(saved.begin(), saved.end() - 1), "truncated", RestoreOptions{SnapshotBaselines::reset});
-  // worker_threads does not change results: allowed.
+  // worker_threads and solver_threads do not change results: allowed.
   cfg = test::small_config();
   cfg.worker_threads = 1;
   Match one_thread(small_battle(), cfg, "w");
   EXPECT_NO_THROW(one_thread.restore_checkpoint(saved));
+  cfg.solver_threads = 3;
+  Match solver_threads(small_battle(), cfg, "t");
+  EXPECT_NO_THROW(solver_threads.restore_checkpoint(saved));
+  EXPECT_EQ(solver_threads.state_hash(), source.state_hash());
 }
 
 TEST(MatchCheckpointDiff, FindsExactlyThePerturbedObject) {

@@ -142,6 +142,8 @@ TEST(ServerProcess, BadCommandLinesAreRejectedWithAClearMessage) {
       {{"--end-when-routed", "inf"}, "--end-when-routed"},
       {{"--log-keyframe-ticks", "-1"}, "--log-keyframe-ticks"},
       {{"--log-keyframe-ticks", "200000"}, "--log-keyframe-ticks"},
+      {{"--solver-threads", "0"}, "--solver-threads"},
+      {{"--solver-threads", "65"}, "--solver-threads"},
       {{"--listen", "tcp://0.0.0.0"}, "host and port are both needed"},
       {{"--listen", "udp://0.0.0.0:7400"}, "must start with tcp://"},
       {{"--public-address", "10.0.0.1"}, "needs --listen"},

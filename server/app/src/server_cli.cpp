@@ -64,6 +64,10 @@ ParseResult parse_server_options(const std::vector<std::string>& args) {
   app.add_option("--npc-speed", m.npc_speed_mps, "m/s NPCs march at")->check(CLI::Range(0.0, 50.0));
   app.add_option("--threads", m.worker_threads, "threads building and publishing snapshots (results do not depend on it)")
       ->check(CLI::Range(1u, 64u));
+  app.add_option("--solver-threads", m.solver_threads,
+                 "threads sweeping the crowd solve (results do not depend on it; helps crowds of 10,000 bodies and more)")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 64u));
   app.add_option("--log", o.log_file, "match log file (replay with throng-replay); default <--log-dir>/<match id>.tlog");
   bool no_log = false;
   app.add_flag("--no-log", no_log, "do not write a match log");

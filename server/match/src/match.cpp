@@ -18,6 +18,7 @@ scene::SceneDef with_tick_rate(scene::SceneDef s, const MatchConfig& config) {
   validate_config(config);  // before anything is built
   // The match's tick is the world's tick: one World::step per Match::tick.
   s.settings.dt_s = 1.0 / static_cast<double>(config.tick_hz);
+  s.settings.threads = config.solver_threads;
   return s;
 }
 
@@ -43,8 +44,8 @@ Match::Impl::Impl(const scene::SceneDef& scene_in, const MatchConfig& config_in,
       ai(ai_settings(config)),
       snapshots(config.interest),
       pool(config.worker_threads),
-      scratches(pool.size()),
-      worker_totals(pool.size()) {
+      scratches(pool.threads()),
+      worker_totals(pool.threads()) {
   timeout_ticks = static_cast<std::uint64_t>(std::llround(config.client_timeout_s * config.tick_hz));
   if (const params::ObjectParams* player = table.find_archetype("player")) player_importance = player->importance;
 

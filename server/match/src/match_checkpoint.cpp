@@ -133,7 +133,7 @@ ClientRecord get_client(ByteReader& r) {
 constexpr std::uint64_t kFnvBasis = 14695981039346656037ull;
 
 // The config as checkpoints check it. sim: every field that changes the simulation state (not
-// worker_threads: results do not depend on it, by design; not the interest settings: they shape
+// worker_threads or solver_threads: results do not depend on them, by design; not the interest settings: they shape
 // snapshot content only). interest: the interest settings. v1: version 1's single hash (sim, then
 // the interest fields mixed into the same stream).
 struct ConfigHashes {

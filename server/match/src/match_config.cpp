@@ -31,6 +31,7 @@ void validate_config(const MatchConfig& c) {
   }
   check(c.max_commands_per_tick, 1, 1000, "max_commands_per_tick");
   check(c.worker_threads, 1, 64, "worker_threads");
+  check(c.solver_threads, 1, 64, "solver_threads");
   check(c.player_speed_mps, 0.0, 100.0, "player_speed_mps", true);
   check(c.npc_speed_mps, 0.0, 100.0, "npc_speed_mps", true);
   // No further than snapshots serve (interest_grid.h): a camera the match accepted must not make the

@@ -16,7 +16,7 @@
 
 #include "client_registry.h"
 #include "npc_ai.h"
-#include "worker_pool.h"
+#include "throng/core/worker_pool.h"
 #include "throng/match/contacts.h"
 #include "throng/match/input_queue.h"
 #include "throng/match/match.h"
@@ -84,7 +84,7 @@ struct Match::Impl {
   ClientRegistry clients;
   NpcAi ai;
   SnapshotBuilder snapshots;
-  // The snapshots phase runs on config.worker_threads threads (worker_pool.h); one Scratch and
+  // The snapshots phase runs on config.worker_threads threads (throng/core/worker_pool.h); one Scratch and
   // one partial-statistics slot per worker, reduced after the phase.
   WorkerPool pool;
   std::vector<SnapshotBuilder::Scratch> scratches;

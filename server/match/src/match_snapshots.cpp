@@ -22,7 +22,7 @@ void Match::Impl::build_snapshots(std::uint64_t tick, Outbox& out) {
   for (auto& t : worker_totals) t = WorkerTotals{};
   for (auto& sc : scratches) snapshots.reserve(sc);  // whichever worker gets a client: no allocation
 
-  auto build_one = [&](unsigned worker, std::size_t k) {
+  auto build_one = [&](std::uint32_t k, unsigned worker) {
     WorkerTotals& totals = worker_totals[worker];
     if (totals.error) return;
     try {
@@ -52,7 +52,7 @@ void Match::Impl::build_snapshots(std::uint64_t tick, Outbox& out) {
       totals.error = std::current_exception();  // rethrown on the tick thread below
     }
   };
-  pool.for_each(ids.size(), build_one);
+  pool.run(static_cast<std::uint32_t>(ids.size()), build_one);
   for (const auto& t : worker_totals) {
     if (t.error) std::rethrow_exception(t.error);
     report.snapshot_poses += t.poses;

@@ -15,7 +15,7 @@
 #include "solver/contact_solver.h"
 #include "solver/pair_schedule.h"
 #include "solver/solver_data.h"
-#include "solver/worker_pool.h"
+#include "throng/core/worker_pool.h"
 
 namespace throng::detail {
 namespace {

@@ -7,7 +7,7 @@
 #include "solver/fast_pair_kernel.h"
 #include "solver/pair_projection.h"
 #include "solver/plane_projection.h"
-#include "solver/worker_pool.h"
+#include "throng/core/worker_pool.h"
 
 namespace throng::detail {
 namespace {

@@ -10,9 +10,11 @@
 #include "solver/pair_schedule.h"
 #include "solver/solver_data.h"
 
-namespace throng::detail {
-
+namespace throng {
 class WorkerPool;
+}
+
+namespace throng::detail {
 
 struct SolveResult {
   std::uint32_t iterations_used = 0;

@@ -28,7 +28,7 @@
 #include <vector>
 
 #include "solver/solver_data.h"
-#include "solver/worker_pool.h"
+#include "throng/core/worker_pool.h"
 
 namespace throng::detail {
 

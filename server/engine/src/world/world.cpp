@@ -60,7 +60,7 @@ std::uint32_t World::Impl::body_index(ObjectId id, const char* what) const {
 World::World(const WorldSettings& settings, const params::ParamTable& table, const params::PushPolicy& policy) {
   settings.validate();
   impl_ = std::make_unique<Impl>(settings, table, policy);
-  if (settings.threads > 1) impl_->pool = std::make_unique<detail::WorkerPool>(settings.threads);
+  if (settings.threads > 1) impl_->pool = std::make_unique<WorkerPool>(settings.threads);
 }
 World::~World() = default;
 World::World(World&&) noexcept = default;

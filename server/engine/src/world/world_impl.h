@@ -11,7 +11,7 @@
 #include "broadphase/point_grid.h"
 #include "solver/pair_schedule.h"
 #include "solver/solver_data.h"
-#include "solver/worker_pool.h"
+#include "throng/core/worker_pool.h"
 #include "throng/core/byte_io.h"
 #include "throng/geometry/static_scenery.h"
 #include "throng/params/param_table.h"
@@ -78,7 +78,7 @@ struct World::Impl {
   std::vector<detail::CandidatePair> candidates;
   std::vector<detail::SolverPair> pairs;
   detail::PairSchedule pair_schedule;
-  std::unique_ptr<detail::WorkerPool> pool;  // WorldSettings::threads > 1
+  std::unique_ptr<WorkerPool> pool;  // WorldSettings::threads > 1
   // fn(begin, end) over [0, n) in fixed ranges, on the pool's threads if there is one: for passes
   // in which every body is on its own (the same bits however the ranges are shared out).
   static constexpr std::size_t kBodiesPerTask = 16384;

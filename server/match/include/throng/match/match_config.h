@@ -34,6 +34,10 @@ struct MatchConfig {
   // Threads building (and, with a sink, publishing) the clients' snapshots, the caller included.
   // Results do not depend on it: each client's snapshot depends only on the world and its own history.
   std::uint32_t worker_threads = 2;
+  // Threads that sweep the world's crowd solve (WorldSettings::threads), the tick's thread
+  // included. The state is the same bits for any number: a large crowd's tick gets shorter, a
+  // small one's (up to about 5,000 bodies, one block of the schedule) does not change.
+  std::uint32_t solver_threads = 1;
   std::uint64_t seed = 1;                 // AI tie-breaks (deterministic)
   InterestConfig interest;
   ContactsConfig contacts;

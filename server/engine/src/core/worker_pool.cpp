@@ -1,4 +1,4 @@
-#include "solver/worker_pool.h"
+#include "throng/core/worker_pool.h"
 
 #include <stdexcept>
 #include <string>
@@ -7,7 +7,7 @@
 #include <emmintrin.h>
 #endif
 
-namespace throng::detail {
+namespace throng {
 namespace {
 
 inline void cpu_relax() {
@@ -83,4 +83,4 @@ void WorkerPool::worker_loop(unsigned thread) {
   }
 }
 
-}  // namespace throng::detail
+}  // namespace throng

@@ -1,5 +1,6 @@
 #pragma once
-// A small fixed pool of threads for the solve (WorldSettings::threads). run(tasks, fn) calls
+// A small fixed pool of threads: the solve's (WorldSettings::threads) and the match's snapshot
+// phase (MatchConfig::worker_threads). run(tasks, fn) calls
 // fn(task) once for every task in [0, tasks), on the pool's threads and the caller's, and returns
 // when all are done. Tasks are handed out in no fixed order: callers give it only tasks that touch
 // disjoint memory, so which thread ran which task never shows in the result.
@@ -15,7 +16,7 @@
 #include <type_traits>
 #include <vector>
 
-namespace throng::detail {
+namespace throng {
 
 class WorkerPool {
  public:
@@ -66,4 +67,4 @@ class WorkerPool {
   std::vector<std::thread> workers_;
 };
 
-}  // namespace throng::detail
+}  // namespace throng
