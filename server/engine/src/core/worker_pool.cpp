@@ -41,29 +41,43 @@ WorkerPool::~WorkerPool() {
 void WorkerPool::start(std::uint32_t tasks, Job job, void* ctx) {
   job_ = job;
   ctx_ = ctx;
-  tasks_ = tasks;
-  next_.store(0, std::memory_order_relaxed);
-  done_.store(0, std::memory_order_relaxed);
-  generation_.fetch_add(1, std::memory_order_release);
+  tasks_.store(tasks, std::memory_order_relaxed);
+  completed_.store(0, std::memory_order_relaxed);
+  const std::uint64_t run = generation_.load(std::memory_order_relaxed) + 1;
+  next_.store((run & 0xFFFFFFFFu) << 32, std::memory_order_release);
+  generation_.store(run, std::memory_order_release);
   generation_.notify_all();
 }
 
-void WorkerPool::drain(unsigned thread) {
+bool WorkerPool::claim(std::uint64_t run, std::uint32_t& task) {
+  std::uint64_t v = next_.load(std::memory_order_acquire);
   for (;;) {
-    const std::uint32_t t = next_.fetch_add(1, std::memory_order_relaxed);
-    if (t >= tasks_) return;
-    job_(ctx_, t, thread);
+    if ((v >> 32) != (run & 0xFFFFFFFFu)) return false;  // that run is over
+    const auto index = static_cast<std::uint32_t>(v);
+    if (index >= tasks_.load(std::memory_order_relaxed)) return false;
+    if (next_.compare_exchange_weak(v, v + 1, std::memory_order_acq_rel, std::memory_order_acquire)) {
+      task = index;
+      return true;
+    }
+  }
+}
 
+void WorkerPool::drain(std::uint64_t run, unsigned thread) {
+  std::uint32_t task = 0;
+  while (claim(run, task)) {
+    job_(ctx_, task, thread);
+    completed_.fetch_add(1, std::memory_order_release);
   }
 }
 
 void WorkerPool::finish() {
-  drain(0);
-  // The others finish the tasks they took; their writes are visible after this acquire.
-  const std::uint32_t workers = static_cast<std::uint32_t>(workers_.size());
-  for (int spin = 0; done_.load(std::memory_order_acquire) != workers; ++spin) {
+  const std::uint64_t run = generation_.load(std::memory_order_relaxed);
+  drain(run, 0);
+  // The tasks other threads claimed complete; their writes are visible after this acquire.
+  const std::uint32_t tasks = tasks_.load(std::memory_order_relaxed);
+  for (int spin = 0; completed_.load(std::memory_order_acquire) != tasks; ++spin) {
     if (spin < kSpinRounds) cpu_relax();
-    else std::this_thread::yield();  // a worker lost its core: let it have ours
+    else std::this_thread::yield();  // a thread lost its core mid-task: let it have ours
   }
 }
 
@@ -78,8 +92,7 @@ void WorkerPool::worker_loop(unsigned thread) {
     }
     seen = g;
     if (stop_.load(std::memory_order_relaxed)) return;
-    drain(thread);
-    done_.fetch_add(1, std::memory_order_release);
+    drain(g, thread);
   }
 }
 

@@ -52,17 +52,23 @@ class WorkerPool {
   }
   void start(std::uint32_t tasks, Job job, void* ctx);
   void finish();
-  void drain(unsigned thread);
+  bool claim(std::uint64_t run, std::uint32_t& task);
+  void drain(std::uint64_t run, unsigned thread);
   void worker_loop(unsigned thread);
 
-  // Written by the caller before the generation is bumped (release), read by the workers after
-  // they see it (acquire).
+  // A run is announced by bumping generation_ (its run number). Tasks are claimed from next_,
+  // which holds the run number's low 32 bits above the next task index, so a thread that wakes
+  // after its run ended claims nothing of the next one. The caller waits for the run's tasks to
+  // be completed, not for every thread to check in: a thread still asleep costs the run nothing
+  // (the caller and the threads awake take its share).
+  // job_ and ctx_ are written before next_ is published and read only after a task of the run
+  // is claimed (the run cannot end, and the next cannot start, before that task completes).
   Job job_ = nullptr;
   void* ctx_ = nullptr;
-  std::uint32_t tasks_ = 0;
+  std::atomic<std::uint32_t> tasks_{0};
   alignas(64) std::atomic<std::uint64_t> generation_{0};
-  alignas(64) std::atomic<std::uint32_t> next_{0};
-  alignas(64) std::atomic<std::uint32_t> done_{0};  // workers finished with the current run
+  alignas(64) std::atomic<std::uint64_t> next_{0};
+  alignas(64) std::atomic<std::uint32_t> completed_{0};
   std::atomic<bool> stop_{false};
   std::vector<std::thread> workers_;
 };
