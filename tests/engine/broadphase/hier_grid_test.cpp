@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "broadphase/hier_grid.h"
+#include "throng/core/worker_pool.h"
 
 namespace throng::detail {
 namespace {
@@ -132,6 +133,58 @@ TEST(HierGrid, WiderSearchSparseLevels) {
     c.group.push_back(clumps.group[i]); c.mask.push_back(clumps.mask[i]);
   }
   check(c, 0.05, 0.8);
+}
+
+// A search on a pool is cut into pieces of cells and of coarser bodies, scanned side by side and
+// joined in order: the same list, in the same order and orientation, and the same capped count as
+// the search on one thread, for any margin and candidate budget.
+void check_pool_search(const Crowd& dense, double margin, double cell0) {
+  HierGrid g;
+  g.build(dense.x.data(), dense.y.data(), dense.r.data(), dense.x.size(), margin, cell0);
+  const Sorted s = in_solver_order(dense, g);
+  const GridBodyView v{s.c.x.data(), s.c.y.data(), s.c.z.data(), s.c.r.data(), s.c.hh.data(), s.c.group.data(),
+                       s.c.mask.data()};
+  WorkerPool two(2), three(3);
+  for (const double extra : {0.0, HierGrid::max_extra_margin(cell0, margin)}) {
+    for (const std::uint32_t budget : {4096u, 6u}) {
+      SCOPED_TRACE(testing::Message() << "extra " << extra << ", budget " << budget);
+      std::vector<CandidatePair> one, many;
+      const std::uint32_t capped = g.find_pairs(v, margin + extra, budget, one);
+      if (budget == 6u) {
+        EXPECT_GT(capped, 0u);  // the budget bites: the capped counts are compared
+      }
+      for (WorkerPool* pool : {&two, &three}) {
+        for (int round = 0; round < 2; ++round) {
+          many.clear();
+          ASSERT_EQ(g.find_pairs(v, margin + extra, budget, many, pool), capped);
+          ASSERT_EQ(many.size(), one.size());
+          for (std::size_t k = 0; k < one.size(); ++k) {
+            ASSERT_TRUE(one[k].a == many[k].a && one[k].b == many[k].b) << "pair " << k;
+          }
+        }
+      }
+    }
+  }
+}
+
+TEST(HierGrid, SearchOnAPoolGivesTheSameListOneSize) {
+  check_pool_search(random_crowd(30000, 100.0, {0.35}, 5), 0.05, 0.8);
+}
+
+TEST(HierGrid, SearchOnAPoolGivesTheSameListMixedSizes) {
+  check_pool_search(random_crowd(30000, 130.0, {0.35, 0.35, 0.35, 0.7, 1.4}, 6), 0.05, 0.8);
+}
+
+TEST(HierGrid, SearchOnAPoolGivesTheSameListSparseLevels) {
+  Crowd c = random_crowd(12000, 3000.0, {0.35, 0.7}, 7);
+  const Crowd clumps = random_crowd(12000, 40.0, {0.35, 0.7}, 8);
+  for (std::size_t i = 0; i < clumps.x.size(); ++i) {
+    c.x.push_back(clumps.x[i] + (i % 3 == 0 ? 900.0 : -700.0));
+    c.y.push_back(clumps.y[i] + (i % 2 == 0 ? 500.0 : -1100.0));
+    c.z.push_back(clumps.z[i]); c.r.push_back(clumps.r[i]); c.hh.push_back(clumps.hh[i]);
+    c.group.push_back(clumps.group[i]); c.mask.push_back(clumps.mask[i]);
+  }
+  check_pool_search(c, 0.05, 0.8);
 }
 
 }  // namespace

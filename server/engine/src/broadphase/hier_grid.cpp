@@ -398,9 +398,11 @@ class HierGrid::PairScan {
 // border cell and key - 2 the previous row's, so the ranges still hold only the cells meant; a row
 // beyond the last holds nothing.
 template <class Scan>
-void HierGrid::scan_indexed_level(const Level& lv, int reach_cells, Scan& scan) const {
+void HierGrid::scan_indexed_level(const Level& lv, std::uint32_t c0, std::uint32_t c1, int reach_cells,
+                                  Scan& scan) const {
   const std::uint32_t* start = lv.start.data();
-  for (const Cell& c : lv.cells) {
+  for (std::uint32_t ci = c0; ci < c1; ++ci) {
+    const Cell& c = lv.cells[ci];
     const std::uint64_t k = c.key;
     typename Scan::Range up[2];
     int up_count = 0;
@@ -423,11 +425,22 @@ void HierGrid::scan_indexed_level(const Level& lv, int reach_cells, Scan& scan) 
 // order, and so are the cells of a row above: contiguous ranges of bodies, scanned in the same
 // order as cell by cell.
 template <class Scan>
-void HierGrid::scan_sorted_level(const Level& lv, int reach_cells, Scan& scan) const {
+void HierGrid::scan_sorted_level(const Level& lv, std::uint32_t c0, std::uint32_t c1, int reach_cells,
+                                 Scan& scan) const {
   const std::vector<Cell>& cells = lv.cells;
   const auto reach = static_cast<std::uint64_t>(reach_cells);
-  std::size_t up_at[2] = {0, 0};  // first cell at or after (cx - reach, cy + r); only moves forward
-  for (std::size_t k = 0; k < cells.size(); ++k) {
+  // First cell at or after (cx - reach, cy + r); only moves forward from the first cell's (a
+  // search in pieces starts each piece where the whole search would be at its first cell).
+  std::size_t up_at[2] = {0, 0};
+  if (c0 < c1) {
+    for (int r = 1; r <= reach_cells; ++r) {
+      const std::uint64_t up_lo = cells[c0].key + static_cast<std::uint64_t>(r) * lv.stride - reach;
+      up_at[r - 1] = static_cast<std::size_t>(
+          std::lower_bound(cells.begin(), cells.end(), up_lo, [](const Cell& cell, std::uint64_t key) { return cell.key < key; }) -
+          cells.begin());
+    }
+  }
+  for (std::size_t k = c0; k < c1; ++k) {
     const Cell& c = cells[k];
     std::size_t last = k;
     while (last + 1 < cells.size() && cells[last + 1].key <= c.key + reach) ++last;
@@ -454,10 +467,9 @@ void HierGrid::scan_sorted_level(const Level& lv, int reach_cells, Scan& scan) c
 // body examines at most 4 * max_candidates bodies in that order (a giant legitimately touches
 // many small bodies).
 template <class Scan>
-void HierGrid::scan_cross_levels(int l, double extra, Scan& scan) const {
+void HierGrid::scan_cross_levels(int l, std::uint32_t i0, std::uint32_t i1, double extra, Scan& scan) const {
   const GridScanBodies& a = scan.bodies();
-  const Level& lv = levels_[l];
-  for (std::uint32_t i = lv.begin; i < lv.end; ++i) {
+  for (std::uint32_t i = i0; i < i1; ++i) {
     std::uint32_t budget = scan.max_candidates() * 4;
     for (int m = 0; m < l; ++m) {
       const Level& fine = levels_[m];
@@ -494,36 +506,103 @@ void HierGrid::scan_cross_levels(int l, double extra, Scan& scan) const {
   }
 }
 
+template <class Scan>
+void HierGrid::scan_piece(const SearchPiece& piece, int reach_cells, double extra, Scan& scan) const {
+  const Level& lv = levels_[static_cast<std::size_t>(piece.level)];
+  if (piece.cross) scan_cross_levels(piece.level, piece.begin, piece.end, extra, scan);
+  else if (!lv.start.empty()) scan_indexed_level(lv, piece.begin, piece.end, reach_cells, scan);
+  else scan_sorted_level(lv, piece.begin, piece.end, reach_cells, scan);
+}
+
 template <GridTestMode kMode>
 std::uint32_t HierGrid::find_pairs_in_mode(const GridScanBodies& a, double margin, double extra, std::uint32_t max_candidates,
-                                           std::vector<CandidatePair>& out) const {
-  PairScan<kMode> scan(a, margin, max_candidates, out);
+                                           std::vector<CandidatePair>& out, WorkerPool* pool) {
   // Each body examines at most max_candidates bodies: its own cell's later bodies and the right
   // cell first, then the (up to three) cells of the row above. A search margin wider than the
   // build's (a pair list's skin) reaches two cells: the cell's later bodies and the next two cells,
   // then five cells in each of the two rows above (max_extra_margin says how far that reaches).
   const int reach_cells = extra > 0.0 ? 2 : 1;
+  // The search in order: every level's cells, finest first, then each coarser level's bodies
+  // against the finer levels. A body's candidates depend on the grid only, so the search can be
+  // cut anywhere between cells (or coarser bodies) and its pieces joined in order.
+  pieces_.clear();
+  constexpr std::uint32_t kBodiesPerPiece = 4096;
+  const bool cut = pool != nullptr && pool->threads() > 1;
   for (int l = 0; l < level_count_; ++l) {
-    if (!levels_[l].start.empty()) scan_indexed_level(levels_[l], reach_cells, scan);
-    else scan_sorted_level(levels_[l], reach_cells, scan);
+    const Level& lv = levels_[static_cast<std::size_t>(l)];
+    const auto cells = static_cast<std::uint32_t>(lv.cells.size());
+    std::uint32_t c0 = 0, bodies = 0;
+    for (std::uint32_t c = 0; c < cells && cut; ++c) {
+      bodies += lv.cells[c].end - lv.cells[c].begin;
+      if (bodies >= kBodiesPerPiece) {
+        pieces_.push_back({l, false, c0, c + 1});
+        c0 = c + 1;
+        bodies = 0;
+      }
+    }
+    if (c0 < cells) pieces_.push_back({l, false, c0, cells});
   }
-  for (int l = 1; l < level_count_; ++l) scan_cross_levels(l, extra, scan);
-  return scan.finish();
+  for (int l = 1; l < level_count_; ++l) {
+    const Level& lv = levels_[static_cast<std::size_t>(l)];
+    const std::uint32_t step = cut ? kBodiesPerPiece / 8 : lv.end - lv.begin;  // a coarse body scans many
+    for (std::uint32_t i = lv.begin; i < lv.end; i += std::max(step, 1u)) {
+      pieces_.push_back({l, true, i, std::min(lv.end, i + std::max(step, 1u))});
+    }
+  }
+  if (!cut || pieces_.size() < 2) {
+    PairScan<kMode> scan(a, margin, max_candidates, out);
+    for (const SearchPiece& piece : pieces_) scan_piece(piece, reach_cells, extra, scan);
+    return scan.finish();
+  }
+  const unsigned threads = pool->threads();
+  if (thread_out_.size() < threads) thread_out_.resize(threads);
+  for (unsigned t = 0; t < threads; ++t) {
+    thread_out_[t].clear();
+    if (thread_out_[t].capacity() < 2 * largest_search_) thread_out_[t].reserve(2 * largest_search_);
+  }
+  piece_out_.resize(pieces_.size());
+  auto search = [&](std::uint32_t k, unsigned thread) {
+    std::vector<CandidatePair>& mine = thread_out_[thread];
+    const std::size_t begin = mine.size();
+    PairScan<kMode> scan(a, margin, max_candidates, mine);
+    scan_piece(pieces_[k], reach_cells, extra, scan);
+    const std::uint32_t capped = scan.finish();
+    piece_out_[k] = {thread, begin, mine.size(), capped};
+  };
+  pool->run(static_cast<std::uint32_t>(pieces_.size()), search);
+  std::size_t total = 0;
+  std::uint32_t capped = 0;
+  for (const PieceOut& p : piece_out_) {
+    total += p.end - p.begin;
+    capped += p.capped;
+  }
+  largest_search_ = std::max(largest_search_, total);
+  std::size_t at = out.size();
+  // Twice the room at a new high, as a scan grows its output (resize alone would allocate the
+  // exact size at every new high).
+  if (out.capacity() < at + total) out.reserve(2 * (at + total));
+  out.resize(at + total);
+  for (const PieceOut& p : piece_out_) {
+    const CandidatePair* from = thread_out_[p.thread].data();
+    std::copy(from + p.begin, from + p.end, out.begin() + static_cast<std::ptrdiff_t>(at));
+    at += p.end - p.begin;
+  }
+  return capped;
 }
 
 std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::uint32_t max_candidates,
-                                   std::vector<CandidatePair>& out) const {
+                                   std::vector<CandidatePair>& out, WorkerPool* pool) {
   const GridScanBodies a{v.x, v.y, v.z, v.r, v.hh, v.group, v.mask};
   const double extra = std::max(0.0, margin - build_margin_m_);
   if (level_count_ > 0 && extra > max_extra_margin(levels_[0].cell_m, build_margin_m_)) {
     throw std::invalid_argument("HierGrid::find_pairs: search margin beyond two cells of the grid");
   }
   switch (test_mode(a, order_.size(), margin)) {
-    case GridTestMode::kFlatOneRadius: return find_pairs_in_mode<GridTestMode::kFlatOneRadius>(a, margin, extra, max_candidates, out);
-    case GridTestMode::kFlat: return find_pairs_in_mode<GridTestMode::kFlat>(a, margin, extra, max_candidates, out);
+    case GridTestMode::kFlatOneRadius: return find_pairs_in_mode<GridTestMode::kFlatOneRadius>(a, margin, extra, max_candidates, out, pool);
+    case GridTestMode::kFlat: return find_pairs_in_mode<GridTestMode::kFlat>(a, margin, extra, max_candidates, out, pool);
     case GridTestMode::kFull: break;
   }
-  return find_pairs_in_mode<GridTestMode::kFull>(a, margin, extra, max_candidates, out);
+  return find_pairs_in_mode<GridTestMode::kFull>(a, margin, extra, max_candidates, out, pool);
 }
 
 }  // namespace throng::detail

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "broadphase/radix_sort.h"
+#include "throng/core/worker_pool.h"
 
 namespace throng::detail {
 
@@ -77,8 +78,10 @@ class HierGrid {
   // whose candidate budget ran out. margin_m may exceed the build's margin by up to
   // max_extra_margin(cell0_m, build margin) (a pair list's skin): the search then reaches two
   // cells out instead of one.
+  // With a pool, the search is cut into runs of cells (and of coarser bodies), each scanned into
+  // its own buffer on the pool's threads and appended in order: the same output.
   std::uint32_t find_pairs(const GridBodyView& v, double margin_m, std::uint32_t max_candidates,
-                           std::vector<CandidatePair>& out) const;
+                           std::vector<CandidatePair>& out, WorkerPool* pool = nullptr);
   // How much wider than the build's margin a search may reach with two cells: a body of level l
   // has 2 (r + margin) <= cell_l, so its widest pair 2 r + margin + extra stays within 2 cell_l
   // while extra <= cell_l + margin, and cell_l >= cell0.
@@ -93,13 +96,34 @@ class HierGrid {
   struct Level;
   template <GridTestMode kMode>
   std::uint32_t find_pairs_in_mode(const GridScanBodies& a, double margin, double extra, std::uint32_t max_candidates,
-                                   std::vector<CandidatePair>& out) const;
+                                   std::vector<CandidatePair>& out, WorkerPool* pool);
+  // One piece of the search: cells [begin, end) of level l, or (cross) the bodies [begin, end) of
+  // coarser level l against the finer levels.
+  struct SearchPiece {
+    int level;
+    bool cross;
+    std::uint32_t begin, end;
+  };
   template <class Scan>
-  void scan_indexed_level(const Level& lv, int reach_cells, Scan& scan) const;
+  void scan_piece(const SearchPiece& piece, int reach_cells, double extra, Scan& scan) const;
   template <class Scan>
-  void scan_sorted_level(const Level& lv, int reach_cells, Scan& scan) const;
+  void scan_indexed_level(const Level& lv, std::uint32_t c0, std::uint32_t c1, int reach_cells, Scan& scan) const;
   template <class Scan>
-  void scan_cross_levels(int l, double extra, Scan& scan) const;
+  void scan_sorted_level(const Level& lv, std::uint32_t c0, std::uint32_t c1, int reach_cells, Scan& scan) const;
+  template <class Scan>
+  void scan_cross_levels(int l, std::uint32_t i0, std::uint32_t i1, double extra, Scan& scan) const;
+  // The pieces of a search on a pool; each thread appends its pieces' candidates to its own buffer
+  // (kept with room for twice the largest search so far, so that a tick does not allocate), and
+  // each piece records where in which buffer its candidates are, and how many bodies it capped.
+  std::vector<SearchPiece> pieces_;
+  std::vector<std::vector<CandidatePair>> thread_out_;
+  struct PieceOut {
+    std::uint32_t thread;
+    std::size_t begin, end;
+    std::uint32_t capped;
+  };
+  std::vector<PieceOut> piece_out_;
+  std::size_t largest_search_ = 0;
 
   struct Cell {
     Cell() {}  // unset: build() sizes the cell list ahead and keeps only the occupied cells

@@ -179,7 +179,7 @@ bool World::Impl::search_pair_list(const double* x, const double* y, const doubl
   l.found.clear();
   const detail::GridBodyView view{sb.x.data(), sb.y.data(), sb.z.data(), sb.r.data(), sb.hh.data(),
                                   sgroup.data(), smask.data()};
-  if (grid.find_pairs(view, margin + pair_list_skin(), settings.max_candidates_per_body, l.found) != 0) {
+  if (grid.find_pairs(view, margin + pair_list_skin(), settings.max_candidates_per_body, l.found, pool.get()) != 0) {
     if (x != bodies.x.data()) fine_grid(bodies.x.data(), bodies.y.data(), bodies.z.data(), false);
     return false;
   }
