@@ -16,8 +16,9 @@ inline void cpu_relax() {
 #endif
 }
 
-// About 10-50 microseconds of pause instructions: long enough to catch the next phase of the same
-// solve, short enough that a pool idle between ticks sleeps instead of burning a core.
+// A few thousand pause instructions (tens to a couple of hundred microseconds, by CPU): long
+// enough to catch the next phase of the same solve, short enough that a pool idle between ticks
+// sleeps instead of burning a core.
 constexpr int kSpinRounds = 4096;
 
 }  // namespace
