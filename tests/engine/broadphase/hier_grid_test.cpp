@@ -43,6 +43,17 @@ Crowd random_crowd(std::size_t n, double side, const std::vector<double>& radii,
   return c;
 }
 
+// Appends `clumps` to `c`, every third body shifted to x + x_third (the others x + x_other), every
+// second to y + y_even (the others y + y_odd): a few dense clumps in a sparse crowd.
+void add_clumps(Crowd& c, const Crowd& clumps, double x_third, double x_other, double y_even, double y_odd) {
+  for (std::size_t i = 0; i < clumps.x.size(); ++i) {
+    c.x.push_back(clumps.x[i] + (i % 3 == 0 ? x_third : x_other));
+    c.y.push_back(clumps.y[i] + (i % 2 == 0 ? y_even : y_odd));
+    c.z.push_back(clumps.z[i]); c.r.push_back(clumps.r[i]); c.hh.push_back(clumps.hh[i]);
+    c.group.push_back(clumps.group[i]); c.mask.push_back(clumps.mask[i]);
+  }
+}
+
 struct Sorted {
   Crowd c;  // solver order
   std::vector<std::uint32_t> order;
@@ -125,13 +136,7 @@ TEST(HierGrid, WiderSearchMixedSizes) {
 TEST(HierGrid, WiderSearchSparseLevels) {
   Crowd c = random_crowd(1500, 600.0, {0.35, 0.7}, 3);
   // A few clumps so that there are pairs at all.
-  const Crowd clumps = random_crowd(600, 6.0, {0.35, 0.7}, 4);
-  for (std::size_t i = 0; i < clumps.x.size(); ++i) {
-    c.x.push_back(clumps.x[i] + (i % 3 == 0 ? 200.0 : -150.0));
-    c.y.push_back(clumps.y[i] + (i % 2 == 0 ? 100.0 : -220.0));
-    c.z.push_back(clumps.z[i]); c.r.push_back(clumps.r[i]); c.hh.push_back(clumps.hh[i]);
-    c.group.push_back(clumps.group[i]); c.mask.push_back(clumps.mask[i]);
-  }
+  add_clumps(c, random_crowd(600, 6.0, {0.35, 0.7}, 4), 200.0, -150.0, 100.0, -220.0);
   check(c, 0.05, 0.8);
 }
 
@@ -177,13 +182,7 @@ TEST(HierGrid, SearchOnAPoolGivesTheSameListMixedSizes) {
 
 TEST(HierGrid, SearchOnAPoolGivesTheSameListSparseLevels) {
   Crowd c = random_crowd(12000, 3000.0, {0.35, 0.7}, 7);
-  const Crowd clumps = random_crowd(12000, 40.0, {0.35, 0.7}, 8);
-  for (std::size_t i = 0; i < clumps.x.size(); ++i) {
-    c.x.push_back(clumps.x[i] + (i % 3 == 0 ? 900.0 : -700.0));
-    c.y.push_back(clumps.y[i] + (i % 2 == 0 ? 500.0 : -1100.0));
-    c.z.push_back(clumps.z[i]); c.r.push_back(clumps.r[i]); c.hh.push_back(clumps.hh[i]);
-    c.group.push_back(clumps.group[i]); c.mask.push_back(clumps.mask[i]);
-  }
+  add_clumps(c, random_crowd(12000, 40.0, {0.35, 0.7}, 8), 900.0, -700.0, 500.0, -1100.0);
   check_pool_search(c, 0.05, 0.8);
 }
 
