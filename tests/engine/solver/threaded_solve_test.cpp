@@ -38,6 +38,25 @@ TEST(WorkerPool, RunsEveryTaskOnceAndNamesItsThread) {
   }
 }
 
+// Runs of few tasks and of many, back to back: a thread still looking at a finished run of few
+// tasks when the next run of many is being announced must not take one of the new run's tasks
+// early (it then ran twice, and the caller's count of completed tasks could step past its run's
+// and wait for ever; found as a hang of the test above).
+TEST(WorkerPool, RunsOfFewAndManyTasksBackToBackRunEachTaskOnce) {
+  // More threads than this machine's cores: a thread preempted between its two reads widens the
+  // window the race needs.
+  WorkerPool pool(8);
+  std::vector<std::atomic<int>> runs(64);
+  std::uint32_t tasks = 0;
+  auto fn = [&](std::uint32_t t) { runs[t].fetch_add(1, std::memory_order_relaxed); };
+  for (int round = 0; round < 100000; ++round) {
+    tasks = round % 2 == 0 ? 2u : 64u;
+    for (std::uint32_t t = 0; t < tasks; ++t) runs[t].store(0, std::memory_order_relaxed);
+    pool.run(tasks, fn);
+    for (std::uint32_t t = 0; t < tasks; ++t) ASSERT_EQ(runs[t].load(), 1) << "round " << round << " task " << t;
+  }
+}
+
 TEST(WorkerPool, RejectsThreadCountsOutsideItsRange) {
   EXPECT_THROW(WorkerPool(0), std::invalid_argument);
   EXPECT_THROW(WorkerPool(WorkerPool::kMaxThreads + 1), std::invalid_argument);

@@ -45,19 +45,25 @@ void WorkerPool::start(std::uint32_t tasks, Job job, void* ctx) {
   tasks_.store(tasks, std::memory_order_relaxed);
   completed_.store(0, std::memory_order_relaxed);
   const std::uint64_t run = generation_.load(std::memory_order_relaxed) + 1;
-  next_.store((run & 0xFFFFFFFFu) << 32, std::memory_order_release);
+  next_.store(((run & 0xFFFFFFFFu) << 32) | tasks, std::memory_order_release);
   generation_.store(run, std::memory_order_release);
   generation_.notify_all();
 }
 
+// The low half of next_ counts the tasks left, not the next index: a claim must not depend on
+// anything but next_ itself. With an index compared against tasks_, a thread that had read the
+// last run's exhausted next_ and then the next run's (larger) tasks_, published first, could take
+// a task of the new run with the old next_ still in place, before the new run began.
 bool WorkerPool::claim(std::uint64_t run, std::uint32_t& task) {
   std::uint64_t v = next_.load(std::memory_order_acquire);
   for (;;) {
     if ((v >> 32) != (run & 0xFFFFFFFFu)) return false;  // that run is over
-    const auto index = static_cast<std::uint32_t>(v);
-    if (index >= tasks_.load(std::memory_order_relaxed)) return false;
-    if (next_.compare_exchange_weak(v, v + 1, std::memory_order_acq_rel, std::memory_order_acquire)) {
-      task = index;
+    const auto left = static_cast<std::uint32_t>(v);
+    if (left == 0) return false;
+    if (next_.compare_exchange_weak(v, v - 1, std::memory_order_acq_rel, std::memory_order_acquire)) {
+      // tasks_ is this run's: it was stored before next_ was published, and cannot change before
+      // the task claimed here completes.
+      task = tasks_.load(std::memory_order_relaxed) - left;
       return true;
     }
   }
@@ -76,9 +82,13 @@ void WorkerPool::finish() {
   drain(run, 0);
   // The tasks other threads claimed complete; their writes are visible after this acquire.
   const std::uint32_t tasks = tasks_.load(std::memory_order_relaxed);
-  for (int spin = 0; completed_.load(std::memory_order_acquire) != tasks; ++spin) {
-    if (spin < kSpinRounds) cpu_relax();
-    else std::this_thread::yield();  // a thread lost its core mid-task: let it have ours
+  for (int spin = 0; completed_.load(std::memory_order_acquire) != tasks;) {
+    if (spin < kSpinRounds) {
+      cpu_relax();
+      ++spin;
+    } else {
+      std::this_thread::yield();  // a thread lost its core mid-task: let it have ours
+    }
   }
 }
 
@@ -86,9 +96,13 @@ void WorkerPool::worker_loop(unsigned thread) {
   std::uint64_t seen = 0;
   for (;;) {
     std::uint64_t g = generation_.load(std::memory_order_acquire);
-    for (int spin = 0; g == seen; ++spin) {
-      if (spin < kSpinRounds) cpu_relax();
-      else generation_.wait(seen, std::memory_order_acquire);
+    for (int spin = 0; g == seen;) {
+      if (spin < kSpinRounds) {
+        cpu_relax();
+        ++spin;
+      } else {
+        generation_.wait(seen, std::memory_order_acquire);
+      }
       g = generation_.load(std::memory_order_acquire);
     }
     seen = g;

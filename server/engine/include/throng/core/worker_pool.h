@@ -57,8 +57,8 @@ class WorkerPool {
   void worker_loop(unsigned thread);
 
   // A run is announced by bumping generation_ (its run number). Tasks are claimed from next_,
-  // which holds the run number's low 32 bits above the next task index, so a thread that wakes
-  // after its run ended claims nothing of the next one. The caller waits for the run's tasks to
+  // which holds the run number's low 32 bits above the count of tasks not yet claimed, so a thread
+  // that wakes after its run ended claims nothing of the next one. The caller waits for the run's tasks to
   // be completed, not for every thread to check in: a thread still asleep costs the run nothing
   // (the caller and the threads awake take its share).
   // job_ and ctx_ are written before next_ is published and read only after a task of the run
@@ -72,5 +72,16 @@ class WorkerPool {
   std::atomic<bool> stop_{false};
   std::vector<std::thread> workers_;
 };
+
+// run(tasks, fn) on `pool`, or, without one (a world of one thread), every task in order on the
+// calling thread (as thread 0).
+template <class Fn>
+void run_tasks(WorkerPool* pool, std::uint32_t tasks, Fn& fn) {
+  if (pool != nullptr) return pool->run(tasks, fn);
+  for (std::uint32_t t = 0; t < tasks; ++t) {
+    if constexpr (std::is_invocable_v<Fn&, std::uint32_t, unsigned>) fn(t, 0u);
+    else fn(t);
+  }
+}
 
 }  // namespace throng
