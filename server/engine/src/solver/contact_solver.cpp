@@ -106,8 +106,7 @@ void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, cons
     }
   };
   const auto tasks = static_cast<std::uint32_t>((n + kBodiesPerTask - 1) / kBodiesPerTask);
-  if (pool != nullptr) pool->run(tasks, cut);
-  else for (std::uint32_t t = 0; t < tasks; ++t) cut(t);
+  run_tasks(pool, tasks, cut);
 }
 
 double pair_depth(const SolverBodies& b, const SolverPair& p) {

@@ -189,8 +189,7 @@ void for_each_block(const PairSchedule& s, WorkerPool* pool, bool forward, Fn&& 
     const std::uint32_t first = s.phase_begin[p];
     const std::uint32_t blocks = s.phase_begin[p + 1] - first;
     auto task = [&](std::uint32_t t) { fn(s.phase_block[first + t]); };
-    if (pool != nullptr) pool->run(blocks, task);
-    else for (std::uint32_t t = 0; t < blocks; ++t) task(t);
+    run_tasks(pool, blocks, task);
   }
 }
 

@@ -166,8 +166,7 @@ void build_pair_schedule_from(const SolverBodies& bodies, const Source& pairs, d
     s.band_body_lo[c] = body_lo;
     s.band_body_hi[c] = body_hi;
   };
-  if (pool != nullptr) pool->run(static_cast<std::uint32_t>(nb), level_band);
-  else for (std::uint32_t c = 0; c < nb; ++c) level_band(c, 0);
+  run_tasks(pool, static_cast<std::uint32_t>(nb), level_band);
   // The bands' levels one after the other; counts per level.
   s.band_level.resize(nb + 1);
   std::uint32_t level_count = 0, fast_total = 0;
@@ -232,8 +231,7 @@ void build_pair_schedule_from(const SolverBodies& bodies, const Source& pairs, d
       else s.src[s.fast_count[first + lv]++] = static_cast<std::uint32_t>(k);
     }
   };
-  if (pool != nullptr) pool->run(static_cast<std::uint32_t>(nb), scatter_band);
-  else for (std::uint32_t c = 0; c < nb; ++c) scatter_band(c);
+  run_tasks(pool, static_cast<std::uint32_t>(nb), scatter_band);
   s.a.resize(slots); s.b.resize(slots); s.nx.resize(slots); s.ny.resize(slots); s.pen0.resize(slots);
   s.target.resize(slots); s.share_now.resize(slots); s.share_exact.resize(slots);
   s.lambda.resize(slots);
@@ -288,8 +286,7 @@ void build_pair_schedule_from(const SolverBodies& bodies, const Source& pairs, d
     }
   };
   const auto bands = static_cast<std::uint32_t>(s.band_count());
-  if (pool != nullptr) pool->run(bands, fill_band);
-  else for (std::uint32_t c = 0; c < bands; ++c) fill_band(c);
+  run_tasks(pool, bands, fill_band);
 }
 
 

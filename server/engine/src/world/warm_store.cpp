@@ -35,8 +35,7 @@ std::size_t store_fast_pushes(PairSchedule& s, const SolverBodies& bodies, const
       for (std::uint32_t f = s.block_fast_begin(k), end = s.block_fast_end(k); f < end; ++f) n += pushed(lambda[f]) ? 1 : 0;
       s.block_events[k] = n;
     };
-    if (pool != nullptr) pool->run(static_cast<std::uint32_t>(blocks), count);
-    else for (std::uint32_t k = 0; k < blocks; ++k) count(k);
+    run_tasks(pool, static_cast<std::uint32_t>(blocks), count);
     for (std::size_t k = 0; k < blocks; ++k) {
       const std::uint32_t n = s.block_events[k];
       s.block_events[k] = static_cast<std::uint32_t>(total);

@@ -86,8 +86,7 @@ struct World::Impl {
   void for_body_ranges(std::size_t n, Fn&& fn) {
     const auto tasks = static_cast<std::uint32_t>((n + kBodiesPerTask - 1) / kBodiesPerTask);
     auto task = [&](std::uint32_t t) { fn(t * kBodiesPerTask, std::min(n, (t + 1) * kBodiesPerTask)); };
-    if (pool != nullptr) pool->run(tasks, task);
-    else for (std::uint32_t t = 0; t < tasks; ++t) task(t);
+    run_tasks(pool.get(), tasks, task);
   }
   std::size_t warm_pairs = 0;  // pairs of this tick that start with a warm-start push
   // The second solve of a tick (World::step), and whether the first was the scheduled one.

@@ -295,8 +295,7 @@ void World::Impl::take_list_pairs() {
     l.range_taken[t] = static_cast<std::uint32_t>(k - e0);
     l.range_warm[t] = static_cast<std::uint32_t>(warm);
   };
-  if (pool != nullptr) pool->run(tasks, take_range);
-  else for (std::uint32_t t = 0; t < tasks; ++t) take_range(t);
+  run_tasks(pool.get(), tasks, take_range);
   // Close the gaps, in range order (a range's taken entries move down, never past a later range's).
   std::size_t k = 0, warm = 0;
   for (std::uint32_t t = 0; t < tasks; ++t) {
