@@ -47,10 +47,9 @@ TEST(WorkerPool, RunsOfFewAndManyTasksBackToBackRunEachTaskOnce) {
   // window the race needs.
   WorkerPool pool(8);
   std::vector<std::atomic<int>> runs(64);
-  std::uint32_t tasks = 0;
   auto fn = [&](std::uint32_t t) { runs[t].fetch_add(1, std::memory_order_relaxed); };
   for (int round = 0; round < 100000; ++round) {
-    tasks = round % 2 == 0 ? 2u : 64u;
+    const std::uint32_t tasks = round % 2 == 0 ? 2u : 64u;
     for (std::uint32_t t = 0; t < tasks; ++t) runs[t].store(0, std::memory_order_relaxed);
     pool.run(tasks, fn);
     for (std::uint32_t t = 0; t < tasks; ++t) ASSERT_EQ(runs[t].load(), 1) << "round " << round << " task " << t;

@@ -35,12 +35,15 @@ class WorkerPool {
   // caller thread.
   template <class Fn>
   void run(std::uint32_t tasks, Fn& fn) {
-    if (workers_.empty() || tasks <= 1) {
-      for (std::uint32_t t = 0; t < tasks; ++t) call<Fn>(&fn, t, 0);
-      return;
-    }
+    if (workers_.empty() || tasks <= 1) return run_inline(tasks, fn);
     start(tasks, &call<Fn>, &fn);
     finish();
+  }
+
+  // Every task in order on the calling thread (as thread 0): what run() does without workers.
+  template <class Fn>
+  static void run_inline(std::uint32_t tasks, Fn& fn) {
+    for (std::uint32_t t = 0; t < tasks; ++t) call<Fn>(&fn, t, 0);
   }
 
  private:
@@ -58,9 +61,9 @@ class WorkerPool {
 
   // A run is announced by bumping generation_ (its run number). Tasks are claimed from next_,
   // which holds the run number's low 32 bits above the count of tasks not yet claimed, so a thread
-  // that wakes after its run ended claims nothing of the next one. The caller waits for the run's tasks to
-  // be completed, not for every thread to check in: a thread still asleep costs the run nothing
-  // (the caller and the threads awake take its share).
+  // that wakes after its run ended claims nothing of the next one. The caller waits for the run's
+  // tasks to be completed, not for every thread to check in: a thread still asleep costs the run
+  // nothing (the caller and the threads awake take its share).
   // job_ and ctx_ are written before next_ is published and read only after a task of the run
   // is claimed (the run cannot end, and the next cannot start, before that task completes).
   Job job_ = nullptr;
@@ -78,10 +81,7 @@ class WorkerPool {
 template <class Fn>
 void run_tasks(WorkerPool* pool, std::uint32_t tasks, Fn& fn) {
   if (pool != nullptr) return pool->run(tasks, fn);
-  for (std::uint32_t t = 0; t < tasks; ++t) {
-    if constexpr (std::is_invocable_v<Fn&, std::uint32_t, unsigned>) fn(t, 0u);
-    else fn(t);
-  }
+  WorkerPool::run_inline(tasks, fn);
 }
 
 }  // namespace throng
