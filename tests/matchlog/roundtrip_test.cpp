@@ -191,6 +191,51 @@ TEST(RoundTrip, VersionTwoTickEntriesDecodeWithoutSenders) {
   EXPECT_THROW(decode_tick(b, pos, t, 3), LogError);
 }
 
+// The encoder writes FORMAT.md's little-endian layout (built here byte by byte with shifts, not
+// with the codec under test), and a truncated entry names the field it ran out in.
+TEST(RoundTrip, EncodedTickEntryHasTheDocumentedLayoutAndTruncationNamesTheField) {
+  match::TickInputs in;
+  in.commands.resize(1);
+  auto& c = in.commands[0];
+  c.client_id = 1;
+  c.entity = 1234;
+  c.sequence = 5;
+  c.last_seen_tick = 6;
+  c.move_x = 1.5f;
+  for (std::size_t k = 0; k < c.sender.bytes.size(); ++k) c.sender.bytes[k] = static_cast<std::uint8_t>(k + 1);
+  std::vector<std::uint8_t> got;
+  encode_tick(7, in, 0xABCDull, 0, got);
+
+  std::vector<std::uint8_t> want;
+  auto u8 = [&](std::uint8_t v) { want.push_back(v); };
+  auto u32 = [&](std::uint32_t v) { for (int k = 0; k < 4; ++k) u8(static_cast<std::uint8_t>(v >> (8 * k))); };
+  auto u64 = [&](std::uint64_t v) { u32(static_cast<std::uint32_t>(v)); u32(static_cast<std::uint32_t>(v >> 32)); };
+  u64(7); u64(0xABCDull); u8(0); u32(0); u32(1); u32(0);    // tick, hash, flags, 0 joins, 1 command, 0 params
+  u32(1); u32(1234); u32(5); u64(6);                        // client, entity, sequence, last seen tick
+  u32(0x3FC00000u);                                         // move x = 1.5f
+  for (int k = 0; k < 6; ++k) u32(0);                       // move y, facing, actions, camera
+  for (std::uint8_t k = 1; k <= 12; ++k) u8(k);             // sender
+  EXPECT_EQ(got, want);
+
+  TickRecord t;
+  std::size_t pos = 0;
+  decode_tick(got, pos, t, kFormatVersion);
+  EXPECT_EQ(pos, got.size());
+  ASSERT_EQ(t.inputs.commands.size(), 1u);
+  EXPECT_EQ(t.inputs.commands[0].move_x, 1.5f);
+  EXPECT_EQ(t.inputs.commands[0].sender, c.sender);
+
+  got.pop_back();
+  pos = 0;
+  try {
+    decode_tick(got, pos, t, kFormatVersion);
+    ADD_FAILURE() << "a truncated entry decoded";
+  } catch (const LogError& e) {
+    EXPECT_NE(std::string(e.what()).find("tick entry truncated: command sender needs 12 bytes"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(RoundTrip, UtcFormatIsFixedWidth) {
   EXPECT_EQ(format_utc_ms(0), "1970-01-01T00:00:00.000Z");
   EXPECT_EQ(format_utc_ms(1714567890123), "2024-05-01T12:51:30.123Z");

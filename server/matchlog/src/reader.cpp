@@ -15,7 +15,7 @@
 #include <xxhash.h>
 #include <zstd.h>
 
-#include "byte_io.h"
+#include "throng/core/byte_io.h"
 #include "record_framing.h"
 #include "throng/matchlog/crc32c.h"
 #include "throng/scene/scene_json.h"
@@ -23,8 +23,6 @@
 namespace throng::matchlog {
 namespace {
 
-using detail::load_u32;
-using detail::load_u64;
 using detail::check_record;
 using detail::RecordCheck;
 
@@ -84,7 +82,7 @@ void MatchLogReader::read_header() {
   if (size_ < kFilePreambleBytes)
     throw LogError(fmt::format("{}: truncated header: the file is only {} bytes (the preamble alone is {})", path_, size_,
                                kFilePreambleBytes));
-  const std::uint32_t version = load_u32(data_ + 8);
+  const std::uint32_t version = load_bytes<std::uint32_t>(data_ + 8);
   if (version < kOldestReadableFormatVersion || version > kFormatVersion)
     throw LogError(fmt::format("{}: match log format version {} is not supported (this build reads format versions {}..{})",
                                path_, version, kOldestReadableFormatVersion, kFormatVersion));
@@ -117,10 +115,10 @@ void MatchLogReader::read_header() {
 void MatchLogReader::decode_block(std::size_t index, std::vector<std::uint8_t>& raw) const {
   const BlockInfo& b = scan_.blocks[index];
   const std::uint8_t* p = data_ + b.offset + 5;
-  const std::uint32_t len = load_u32(data_ + b.offset);
+  const std::uint32_t len = load_bytes<std::uint32_t>(data_ + b.offset);
   if (len < 17) throw LogError("tick block payload shorter than its 17-byte head");
   const std::uint8_t codec = p[12];
-  const std::uint32_t raw_size = load_u32(p + 13);
+  const std::uint32_t raw_size = load_bytes<std::uint32_t>(p + 13);
   const std::uint8_t* body = p + 17;
   const std::size_t body_size = len - 17;
   if (codec == static_cast<std::uint8_t>(BlockCodec::raw)) {
@@ -154,7 +152,7 @@ const KeyframeInfo* MatchLogReader::find_keyframe(std::uint64_t tick) const {
 
 void MatchLogReader::read_keyframe(const KeyframeInfo& k, std::vector<std::uint8_t>& out) const {
   const std::uint8_t* p = data_ + k.offset + 5;
-  const std::uint32_t len = load_u32(data_ + k.offset);
+  const std::uint32_t len = load_bytes<std::uint32_t>(data_ + k.offset);
   const std::uint8_t codec = p[8];
   const std::uint8_t* body = p + 13;
   const std::size_t body_size = len - 13;

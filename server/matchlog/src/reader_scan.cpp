@@ -5,15 +5,13 @@
 
 #include <fmt/format.h>
 
-#include "byte_io.h"
+#include "throng/core/byte_io.h"
 #include "record_framing.h"
 #include "throng/matchlog/reader.h"
 #include "throng/matchlog/tick_record.h"
 
 namespace throng::matchlog {
 
-using detail::load_u32;
-using detail::load_u64;
 
 // One pass over the records. Each record type has its check; a check returns what is wrong with
 // the record ("" when nothing), and the first problem ends the scan there.
@@ -101,8 +99,8 @@ std::string MatchLogReader::Scan::record(RecordType type, const std::uint8_t* p,
 
 std::string MatchLogReader::Scan::tick_block(const std::uint8_t* p, std::uint32_t len, std::uint32_t framed) {
   if (len < 17) return "tick block shorter than its head";
-  const std::uint64_t first = load_u64(p);
-  const std::uint32_t count = load_u32(p + 8);
+  const std::uint64_t first = load_bytes<std::uint64_t>(p);
+  const std::uint32_t count = load_bytes<std::uint32_t>(p + 8);
   if (count == 0) return "tick block with no ticks";
   if (first != expected)
     return fmt::format("tick block starts at tick {}, tick {} expected (no gap record explains the jump)", first, expected);
@@ -132,7 +130,7 @@ std::string MatchLogReader::Scan::tick_block(const std::uint8_t* p, std::uint32_
 
 std::string MatchLogReader::Scan::gap(const std::uint8_t* p, std::uint32_t len) {
   if (len != 17) return "gap record of the wrong size";
-  const std::uint64_t first = load_u64(p), count = load_u64(p + 8);
+  const std::uint64_t first = load_bytes<std::uint64_t>(p), count = load_bytes<std::uint64_t>(p + 8);
   if (first != expected || count == 0)
     return fmt::format("gap record for ticks from {} while tick {} is expected", first, expected);
   s.gaps.push_back({first, count, pos});
@@ -145,9 +143,9 @@ std::string MatchLogReader::Scan::gap(const std::uint8_t* p, std::uint32_t len) 
 std::string MatchLogReader::Scan::keyframe(const std::uint8_t* p, std::uint32_t len, std::uint32_t framed) {
   if (s.format_version < 2) return "a keyframe record in a format version 1 log";
   if (len < 13) return "keyframe record shorter than its head";
-  const std::uint64_t tick = load_u64(p);
+  const std::uint64_t tick = load_bytes<std::uint64_t>(p);
   const std::uint8_t codec = p[8];
-  const std::uint32_t raw_size = load_u32(p + 9);
+  const std::uint32_t raw_size = load_bytes<std::uint32_t>(p + 9);
   if (tick == 0 || tick != last_good_tick || (!s.keyframes.empty() && tick <= s.keyframes.back().tick))
     return fmt::format("keyframe for tick {} after tick {} (a keyframe follows the block ending at its tick)", tick,
                        last_good_tick);
@@ -163,19 +161,19 @@ std::string MatchLogReader::Scan::keyframe(const std::uint8_t* p, std::uint32_t 
 std::string MatchLogReader::Scan::index(const std::uint8_t* p, std::uint32_t len) {
   if (len < 13) return "index record shorter than its head";
   const bool final = p[8] != 0;
-  const std::uint32_t n = load_u32(p + 9);
+  const std::uint32_t n = load_bytes<std::uint32_t>(p + 9);
   const std::uint64_t block_part = 13 + static_cast<std::uint64_t>(n) * 20;
   std::uint32_t nk = 0;
   if (s.format_version >= 2) {
     if (len < block_part + 4) return "index record length disagrees with its count";
-    nk = load_u32(p + block_part);
+    nk = load_bytes<std::uint32_t>(p + block_part);
     if (block_part + 4 + static_cast<std::uint64_t>(nk) * 16 != len) return "index record length disagrees with its counts";
   } else if (block_part != len) {
     return "index record length disagrees with its count";
   }
   for (std::uint32_t k = 0; k < nk; ++k) {
     const std::uint8_t* e = p + block_part + 4 + 16 * k;
-    const std::uint64_t tick = load_u64(e), off = load_u64(e + 8);
+    const std::uint64_t tick = load_bytes<std::uint64_t>(e), off = load_bytes<std::uint64_t>(e + 8);
     const auto it = std::lower_bound(s.keyframes.begin(), s.keyframes.end(), tick,
                                      [](const KeyframeInfo& x, std::uint64_t t) { return x.tick < t; });
     if (it == s.keyframes.end() || it->tick != tick || it->offset != off)
@@ -185,8 +183,8 @@ std::string MatchLogReader::Scan::index(const std::uint8_t* p, std::uint32_t len
   // Every entry must name a block this scan saw at that offset with that tick range.
   for (std::uint32_t k = 0; k < n; ++k) {
     const std::uint8_t* e = p + 13 + 20 * k;
-    const std::uint64_t first = load_u64(e), off = load_u64(e + 12);
-    const std::uint32_t cnt = load_u32(e + 8);
+    const std::uint64_t first = load_bytes<std::uint64_t>(e), off = load_bytes<std::uint64_t>(e + 12);
+    const std::uint32_t cnt = load_bytes<std::uint32_t>(e + 8);
     const auto it = std::lower_bound(s.blocks.begin(), s.blocks.end(), first,
                                      [](const BlockInfo& b, std::uint64_t t) { return b.first_tick < t; });
     if (it == s.blocks.end() || it->first_tick != first || it->offset != off || it->tick_count != cnt)
@@ -202,10 +200,10 @@ std::string MatchLogReader::Scan::index(const std::uint8_t* p, std::uint32_t len
 
 std::string MatchLogReader::Scan::end_record(const std::uint8_t* p, std::uint32_t len) {
   if (len != 32) return "end record of the wrong size";
-  if (load_u64(p) != final_index_offset || final_index_offset == 0) return "end record does not point at the final index";
-  s.end_last_tick = load_u64(p + 8);
-  s.end_ticks_written = load_u64(p + 16);
-  s.end_ticks_dropped = load_u64(p + 24);
+  if (load_bytes<std::uint64_t>(p) != final_index_offset || final_index_offset == 0) return "end record does not point at the final index";
+  s.end_last_tick = load_bytes<std::uint64_t>(p + 8);
+  s.end_ticks_written = load_bytes<std::uint64_t>(p + 16);
+  s.end_ticks_dropped = load_bytes<std::uint64_t>(p + 24);
   if (s.end_last_tick != expected - 1)
     return fmt::format("end record says the last tick is {}, the log holds ticks up to {}", s.end_last_tick, expected - 1);
   seen_end = true;

@@ -3,7 +3,7 @@
 
 #include <fmt/format.h>
 
-#include "byte_io.h"
+#include "throng/core/byte_io.h"
 #include "throng/matchlog/crc32c.h"
 #include "throng/matchlog/format.h"
 
@@ -15,7 +15,7 @@ RecordCheck check_record(const std::uint8_t* data, std::size_t size, std::size_t
     r.why = fmt::format("only {} bytes left, a record needs at least {}", size - pos, kRecordOverheadBytes);
     return r;
   }
-  r.length = load_u32(data + pos);
+  r.length = load_bytes<std::uint32_t>(data + pos);
   r.type = data[pos + 4];
   if (!is_known_record_type(r.type)) {
     r.why = fmt::format("unknown record type {}", r.type);
@@ -30,7 +30,7 @@ RecordCheck check_record(const std::uint8_t* data, std::size_t size, std::size_t
                         r.length + kRecordOverheadBytes, size - pos);
     return r;
   }
-  const std::uint32_t stored = load_u32(data + pos + 5 + r.length);
+  const std::uint32_t stored = load_bytes<std::uint32_t>(data + pos + 5 + r.length);
   const std::uint32_t actual = crc32c(data + pos, 5 + r.length);
   if (stored != actual) {
     r.why = fmt::format("CRC mismatch in a {} record (stored {:08x}, computed {:08x})",
@@ -45,26 +45,26 @@ std::size_t find_valid_record_after(const std::uint8_t* data, std::size_t size, 
   for (std::size_t q = from + 1; q + kRecordOverheadBytes <= size; ++q) {
     const std::uint8_t type = data[q + 4];
     if (!is_known_record_type(type) || type == static_cast<std::uint8_t>(RecordType::header)) continue;
-    const std::uint32_t len = load_u32(data + q);
+    const std::uint32_t len = load_bytes<std::uint32_t>(data + q);
     if (len > kMaxRecordPayload || size - q - kRecordOverheadBytes < len) continue;
     const std::uint8_t* p = data + q + 5;
     switch (static_cast<RecordType>(type)) {
       case RecordType::tick_block:
       case RecordType::gap: {
         if (len < 16) continue;
-        const std::uint64_t first = load_u64(p);
+        const std::uint64_t first = load_bytes<std::uint64_t>(p);
         if (first <= last_tick || first - last_tick > (1ull << 32)) continue;
         break;
       }
       case RecordType::index:
-        if (len < 13 || load_u64(p) >= q) continue;
+        if (len < 13 || load_bytes<std::uint64_t>(p) >= q) continue;
         break;
       case RecordType::end:
-        if (len != 32 || load_u64(p) >= q) continue;
+        if (len != 32 || load_bytes<std::uint64_t>(p) >= q) continue;
         break;
       case RecordType::keyframe: {
         if (len < 13) continue;
-        const std::uint64_t tick = load_u64(p);
+        const std::uint64_t tick = load_bytes<std::uint64_t>(p);
         if (tick == 0 || tick > last_tick + (1ull << 32)) continue;
         break;
       }

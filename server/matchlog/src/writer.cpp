@@ -19,7 +19,7 @@
 #include <fmt/format.h>
 #include <zstd.h>
 
-#include "byte_io.h"
+#include "throng/core/byte_io.h"
 #include "writer_io.h"
 
 namespace throng::matchlog {
@@ -68,7 +68,7 @@ void MatchLogWriter::begin(LogHeader header) {
   if (fd_ < 0) throw LogError(fmt::format("match log {}: cannot create: {}", path_, std::strerror(errno)));
 
   std::vector<std::uint8_t> pre(kMagic, kMagic + 8);
-  detail::put_u32(pre, kFormatVersion);
+  ByteWriter(pre).put<std::uint32_t>(kFormatVersion);
   std::vector<std::uint8_t> rec;
   detail::frame_record(RecordType::header, std::vector<std::uint8_t>(text.begin(), text.end()), rec);
   pre.insert(pre.end(), rec.begin(), rec.end());
@@ -136,10 +136,11 @@ void MatchLogWriter::run() {
   const std::uint64_t index_offset = offset_;
   write_index(true);
   std::vector<std::uint8_t> p;
-  detail::put_u64(p, index_offset);
-  detail::put_u64(p, last);
-  detail::put_u64(p, written_.load(std::memory_order_relaxed));
-  detail::put_u64(p, dropped_.load(std::memory_order_relaxed));
+  ByteWriter w(p);
+  w.put<std::uint64_t>(index_offset);
+  w.put<std::uint64_t>(last);
+  w.put<std::uint64_t>(written_.load(std::memory_order_relaxed));
+  w.put<std::uint64_t>(dropped_.load(std::memory_order_relaxed));
   write_record(RecordType::end, p);
   maybe_fsync(true);
 }

@@ -8,7 +8,7 @@
 
 #include <zstd.h>
 
-#include "byte_io.h"
+#include "throng/core/byte_io.h"
 #include "throng/matchlog/crc32c.h"
 
 namespace throng::matchlog::detail {
@@ -28,10 +28,10 @@ std::string write_all(int fd, const std::uint8_t* p, std::size_t n) {
 
 void frame_record(RecordType type, const std::vector<std::uint8_t>& payload, std::vector<std::uint8_t>& out) {
   const std::size_t start = out.size();
-  put_u32(out, static_cast<std::uint32_t>(payload.size()));
-  put_u8(out, static_cast<std::uint8_t>(type));
+  ByteWriter(out).put<std::uint32_t>(static_cast<std::uint32_t>(payload.size()));
+  ByteWriter(out).put<std::uint8_t>(static_cast<std::uint8_t>(type));
   out.insert(out.end(), payload.begin(), payload.end());
-  put_u32(out, crc32c(out.data() + start, out.size() - start));
+  ByteWriter(out).put<std::uint32_t>(crc32c(out.data() + start, out.size() - start));
 }
 
 void append_body(void* zctx, int zstd_level, const std::vector<std::uint8_t>& raw, std::vector<std::uint8_t>& scratch,
@@ -46,8 +46,8 @@ void append_body(void* zctx, int zstd_level, const std::vector<std::uint8_t>& ra
       codec = BlockCodec::zstd;
     }
   }
-  put_u8(payload, static_cast<std::uint8_t>(codec));
-  put_u32(payload, static_cast<std::uint32_t>(raw.size()));
+  ByteWriter(payload).put<std::uint8_t>(static_cast<std::uint8_t>(codec));
+  ByteWriter(payload).put<std::uint32_t>(static_cast<std::uint32_t>(raw.size()));
   const std::vector<std::uint8_t>& body = codec == BlockCodec::zstd ? scratch : raw;
   payload.insert(payload.end(), body.begin(), body.end());
 }

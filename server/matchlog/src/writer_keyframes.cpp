@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "byte_io.h"
+#include "throng/core/byte_io.h"
 #include "writer_io.h"
 
 namespace throng::matchlog {
@@ -85,7 +85,7 @@ void MatchLogWriter::write_keyframe(std::uint64_t tick, const std::vector<std::u
     return;
   }
   kf_payload_.clear();
-  detail::put_u64(kf_payload_, tick);
+  ByteWriter(kf_payload_).put<std::uint64_t>(tick);
   detail::append_body(zctx_, opt_.zstd_level, bytes, compressed_, kf_payload_);
   const std::uint64_t at = offset_;
   write_record(RecordType::keyframe, kf_payload_);

@@ -10,7 +10,7 @@
 
 #include <fmt/format.h>
 
-#include "byte_io.h"
+#include "throng/core/byte_io.h"
 #include "writer_io.h"
 
 namespace throng::matchlog {
@@ -20,8 +20,9 @@ using Clock = detail::WriterClock;
 void MatchLogWriter::flush_block() {
   if (block_count_ == 0 || io_failed_.load(std::memory_order_relaxed)) return;
   block_payload_.clear();
-  detail::put_u64(block_payload_, block_first_);
-  detail::put_u32(block_payload_, static_cast<std::uint32_t>(block_count_));
+  ByteWriter w(block_payload_);
+  w.put<std::uint64_t>(block_first_);
+  w.put<std::uint32_t>(static_cast<std::uint32_t>(block_count_));
   detail::append_body(zctx_, opt_.zstd_level, block_raw_, compressed_, block_payload_);
   index_all_.push_back({block_first_, offset_, static_cast<std::uint32_t>(block_count_)});
   write_record(RecordType::tick_block, block_payload_);
@@ -38,29 +39,31 @@ void MatchLogWriter::flush_block() {
 
 void MatchLogWriter::write_gap(std::uint64_t first, std::uint64_t count) {
   std::vector<std::uint8_t> p;
-  detail::put_u64(p, first);
-  detail::put_u64(p, count);
-  detail::put_u8(p, 1);  // reason: the writer's backlog exceeded its cap
+  ByteWriter w(p);
+  w.put<std::uint64_t>(first);
+  w.put<std::uint64_t>(count);
+  w.put<std::uint8_t>(1);  // reason: the writer's backlog exceeded its cap
   write_record(RecordType::gap, p);
 }
 
 void MatchLogWriter::write_index(bool final) {
   const std::size_t from = final ? 0 : index_published_;
   std::vector<std::uint8_t> p;
-  detail::put_u64(p, last_index_offset_);
-  detail::put_u8(p, final ? 1 : 0);
-  detail::put_u32(p, static_cast<std::uint32_t>(index_all_.size() - from));
+  ByteWriter w(p);
+  w.put<std::uint64_t>(last_index_offset_);
+  w.put<std::uint8_t>(final ? 1 : 0);
+  w.put<std::uint32_t>(static_cast<std::uint32_t>(index_all_.size() - from));
   for (std::size_t i = from; i < index_all_.size(); ++i) {
-    detail::put_u64(p, index_all_[i].first_tick);
-    detail::put_u32(p, index_all_[i].tick_count);
-    detail::put_u64(p, index_all_[i].offset);
+    w.put<std::uint64_t>(index_all_[i].first_tick);
+    w.put<std::uint32_t>(index_all_[i].tick_count);
+    w.put<std::uint64_t>(index_all_[i].offset);
   }
   // v2: the keyframes since the previous index (final: all of them).
   const std::size_t kfrom = final ? 0 : kf_published_;
-  detail::put_u32(p, static_cast<std::uint32_t>(kf_all_.size() - kfrom));
+  w.put<std::uint32_t>(static_cast<std::uint32_t>(kf_all_.size() - kfrom));
   for (std::size_t i = kfrom; i < kf_all_.size(); ++i) {
-    detail::put_u64(p, kf_all_[i].tick);
-    detail::put_u64(p, kf_all_[i].offset);
+    w.put<std::uint64_t>(kf_all_[i].tick);
+    w.put<std::uint64_t>(kf_all_[i].offset);
   }
   kf_published_ = kf_all_.size();
   last_index_offset_ = offset_;

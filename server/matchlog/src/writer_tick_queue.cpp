@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "byte_io.h"
+#include "throng/core/byte_io.h"
 #include "throng/matchlog/tick_record.h"
 #include "writer_io.h"
 
@@ -100,7 +100,7 @@ void MatchLogWriter::consume(const std::vector<std::uint8_t>& entry) {
     dropped_.fetch_add(1, std::memory_order_relaxed);
     return;
   }
-  const std::uint64_t tick = detail::load_u64(entry.data());
+  const std::uint64_t tick = load_bytes<std::uint64_t>(entry.data());
   if (tick != expected_tick_) {  // the tick thread dropped expected_tick_..tick-1 (spill cap)
     flush_block();
     write_gap(expected_tick_, tick - expected_tick_);

@@ -1,12 +1,15 @@
 #pragma once
-// Little-endian binary writing and bounds-checked reading for checkpoints (World::save_state,
-// match::Match::save_checkpoint). Explicit field-by-field encoding: scalars and arrays of scalars
-// are copied as bytes (the project only targets little-endian hosts, checked below), structs are
-// never copied whole (their padding bytes are unspecified and would make equal states differ).
+// The project's one binary codec: little-endian writing and bounds-checked reading, for
+// checkpoints (World::save_state, match::Match::save_checkpoint) and the match log's records.
+// Explicit field-by-field encoding: scalars and arrays of scalars are copied as bytes (the project
+// only targets little-endian hosts, checked below, so host order is the format's order), structs
+// are never copied whole (their padding bytes are unspecified and would make equal states differ).
 //
 // Why a reader that throws instead of returning status: a checkpoint is decoded by a chain of
 // nested decoders (world, groups, policy, clients, AI, snapshots); one exception type carrying
 // "what, at which offset" keeps every one of them short and makes truncation impossible to miss.
+// The exception type is the caller's (a checkpoint's, the match log's), so each format reports
+// errors in its own terms.
 #include <bit>
 #include <cstdint>
 #include <cstring>
@@ -19,7 +22,7 @@
 
 namespace throng {
 
-static_assert(std::endian::native == std::endian::little, "checkpoints are written in host order = little-endian");
+static_assert(std::endian::native == std::endian::little, "checkpoints and logs are written in host order = little-endian");
 
 // A checkpoint (or one of its sections) is truncated, malformed, of another version or from
 // another scene/config. The message says which.
@@ -32,6 +35,20 @@ class CheckpointError : public std::runtime_error {
 // (ObjectId). Arrays of these may be copied as a block.
 template <class T>
 inline constexpr bool kPlainBytes = std::is_arithmetic_v<T> || std::has_unique_object_representations_v<T>;
+
+// A scalar at a raw position, for framing code that has already checked the bounds itself.
+template <class T>
+T load_bytes(const std::uint8_t* p) {
+  static_assert(std::is_arithmetic_v<T>);
+  T v;
+  std::memcpy(&v, p, sizeof(T));
+  return v;
+}
+template <class T>
+void store_bytes(std::uint8_t* p, T v) {
+  static_assert(std::is_arithmetic_v<T>);
+  std::memcpy(p, &v, sizeof(T));
+}
 
 // Writes into a caller-owned buffer. Two modes:
 //  - append (ByteWriter(out)): after out's current contents;
@@ -84,15 +101,18 @@ class ByteWriter {
   std::size_t pos_;
 };
 
-class ByteReader {
+// Reads what ByteWriter wrote. Every failure throws Error (constructible from a string) naming
+// the subject ("checkpoint", "tick entry"), the field and the offset.
+template <class Error>
+class BasicByteReader {
  public:
-  explicit ByteReader(std::span<const std::uint8_t> bytes) : bytes_(bytes) {}
+  BasicByteReader(std::span<const std::uint8_t> bytes, const char* subject, std::size_t pos = 0)
+      : bytes_(bytes), subject_(subject), pos_(pos) {}
 
   const std::uint8_t* take(std::size_t n, const char* what) {
-    if (n > bytes_.size() - pos_) {
-      throw CheckpointError("checkpoint truncated: " + std::string(what) + " needs " + std::to_string(n) +
-                            " bytes at offset " + std::to_string(pos_) + ", only " +
-                            std::to_string(bytes_.size() - pos_) + " left");
+    if (n > remaining()) {
+      throw Error(std::string(subject_) + " truncated: " + what + " needs " + std::to_string(n) + " bytes at offset " +
+                  std::to_string(pos_) + ", only " + std::to_string(remaining()) + " left");
     }
     const std::uint8_t* p = bytes_.data() + pos_;
     pos_ += n;
@@ -116,9 +136,8 @@ class ByteReader {
     const auto n = get<std::uint32_t>(what);
     if (n > max) fail(std::string(what) + ": count " + std::to_string(n) + " exceeds " + std::to_string(max));
     if (std::size_t{n} * min_bytes_each > remaining()) {
-      throw CheckpointError("checkpoint truncated: " + std::string(what) + " lists " + std::to_string(n) +
-                            " entries at offset " + std::to_string(pos_) + ", only " + std::to_string(remaining()) +
-                            " bytes left");
+      throw Error(std::string(subject_) + " truncated: " + what + " lists " + std::to_string(n) + " entries at offset " +
+                  std::to_string(pos_) + ", only " + std::to_string(remaining()) + " bytes left");
     }
     return n;
   }
@@ -143,14 +162,21 @@ class ByteReader {
   }
 
   [[noreturn]] void fail(const std::string& msg) const {
-    throw CheckpointError("checkpoint malformed at offset " + std::to_string(pos_) + ": " + msg);
+    throw Error(std::string(subject_) + " malformed at offset " + std::to_string(pos_) + ": " + msg);
   }
   std::size_t offset() const { return pos_; }
   std::size_t remaining() const { return bytes_.size() - pos_; }
 
  private:
   std::span<const std::uint8_t> bytes_;
-  std::size_t pos_ = 0;
+  const char* subject_;
+  std::size_t pos_;
+};
+
+// A checkpoint's reader: throws CheckpointError.
+class ByteReader : public BasicByteReader<CheckpointError> {
+ public:
+  explicit ByteReader(std::span<const std::uint8_t> bytes) : BasicByteReader(bytes, "checkpoint") {}
 };
 
 }  // namespace throng
