@@ -1,5 +1,6 @@
 // throng-server as a process: graceful shutdown on SIGTERM (exit 0, summary written, clients told
 // the match ended), the admin endpoint serving throng_ metrics, and bad command lines rejected.
+#include <cmath>
 #include <cstdlib>
 #include <csignal>
 
@@ -95,6 +96,17 @@ TEST(ServerProcess, EveryLogLineNamesTheMatchInJsonOrText) {
   }
 }
 
+// The value of the sample `series` (name plus labels, exactly as exposed) in a text exposition;
+// fails the test and returns NaN when it is missing.
+double metric_value(const std::string& exposition, const std::string& series) {
+  const std::size_t at = exposition.find("\n" + series + " ");
+  if (at == std::string::npos) {
+    ADD_FAILURE() << series << " missing from /metrics";
+    return std::nan("");
+  }
+  return std::stod(exposition.substr(at + 1 + series.size() + 1));
+}
+
 TEST(ServerProcess, AdminEndpointServesHealthReadinessAndMetrics) {
   auto o = small_server_options(152);
   o.admin_port = 0;
@@ -112,6 +124,20 @@ TEST(ServerProcess, AdminEndpointServesHealthReadinessAndMetrics) {
                            "throng_clients 1", "throng_commands_rejected_total{reason=\"non_finite\"}",
                            "throng_snapshot_bytes_total", "throng_push_events_total"})
     EXPECT_NE(metrics.find(name), std::string::npos) << name << " missing from /metrics";
+  // The world's step figures: every phase timed once per tick, and the first tick (no kept pair
+  // list yet) searched. The scrape reads the counters one by one while the tick runs, so a tick
+  // may land between two of them.
+  const double ticks = metric_value(metrics, "throng_ticks_total");
+  const double searches = metric_value(metrics, "throng_world_pair_searches_total");
+  EXPECT_GE(ticks, 3);
+  EXPECT_GE(searches, 1);
+  EXPECT_LE(searches, ticks + 1);
+  for (const char* phase : {"move", "params", "search", "solve"}) {
+    const double timed = metric_value(metrics, std::string("throng_world_phase_seconds_count{phase=\"") + phase + "\"}");
+    EXPECT_NEAR(timed, ticks, 2) << phase;
+  }
+  EXPECT_GE(metric_value(metrics, "throng_world_candidate_pairs"), 0);
+  EXPECT_GE(metric_value(metrics, "throng_world_second_searches_total"), 0);
   // The Grafana dashboard in deploy/ charts only series the server exports (a renamed metric must
   // not leave an empty panel behind).
   const std::string dashboard = read_file(std::filesystem::path(THRONG_SOURCE_DIR) / "deploy/grafana/throng-dashboard.json");

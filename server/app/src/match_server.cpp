@@ -416,6 +416,7 @@ void MatchServer::Impl::run_tick(Clock::time_point woke) {
   metrics.param_updates_applied.inc(report.param_updates_applied);
   metrics.param_updates_rejected.inc(report.param_updates_rejected);
   metrics.push_events.inc(report.push_events);
+  metrics.observe_step(report.world);
   metrics.contacts_refused.inc(report.contacts_refused);
   metrics.snapshot_poses.inc(report.snapshot_poses);
   metrics.view_error_max_m.set(report.view_error_max_m);

@@ -8,6 +8,11 @@ namespace {
 // Tick and phase durations: 0.1 ms .. ~3.3 s in factors of 2, so a 33 ms period falls in the
 // middle of the range and both fast ticks and stalls are resolved.
 std::vector<double> duration_buckets() { return admin::exponential_buckets(0.0001, 2.0, 16); }
+
+admin::Histogram& world_phase(admin::MetricsRegistry& r, const char* phase) {
+  return r.histogram("throng_world_phase_seconds", "Wall time of a phase of the world's step.", duration_buckets(),
+                     {{"phase", phase}});
+}
 }  // namespace
 
 ServerMetrics::ServerMetrics(admin::MetricsRegistry& r)
@@ -52,10 +57,41 @@ ServerMetrics::ServerMetrics(admin::MetricsRegistry& r)
                                       "World keyframes the match log skipped because its writer was behind (seeking gets slower).")),
       log_write_errors(r.counter("throng_log_write_errors_total",
                                  "Match log write or fsync errors (disk full, file too large, I/O error). The log stops "
-                                 "at the first; the match goes on and /readyz says degraded.")) {
+                                 "at the first; the match goes on and /readyz says degraded.")),
+      world_phase_move(world_phase(r, "move")),
+      world_phase_params(world_phase(r, "params")),
+      world_phase_search(world_phase(r, "search")),
+      world_phase_solve(world_phase(r, "solve")),
+      world_searches(r.counter("throng_world_pair_searches_total",
+                               "Ticks whose step searched for pairs (the others reused a kept pair list).")),
+      world_second_searches(r.counter("throng_world_second_searches_total",
+                                      "Ticks whose solve moved a body beyond the contact margin, so the step searched "
+                                      "and solved again.")),
+      world_capped_bodies(r.counter("throng_world_capped_bodies_total",
+                                    "Bodies that hit the per-body candidate cap, summed over ticks (pairs left out).")),
+      world_tunnel_clamps(r.counter("throng_world_tunnel_clamps_total", "Fast moves shortened by the swept test.")),
+      world_pile_relief_bodies(r.counter("throng_world_pile_relief_bodies_total",
+                                         "Bodies laid out afresh from a degenerate pile (bodies at one point).")),
+      world_candidate_pairs(r.gauge("throng_world_candidate_pairs", "Pairs the last step considered (within contact range plus margin).")),
+      world_solver_max_pen(r.gauge("throng_world_solver_max_penetration_ratio",
+                                   "Deepest overlap the last step's final sweep met, over the smaller radius.")) {
   for (std::size_t i = 0; i < match::kRejectReasonCount; ++i)
     commands_rejected[i] = &r.counter("throng_commands_rejected_total", "Client commands rejected, by reason.",
                                       {{"reason", match::to_string(static_cast<match::RejectReason>(i))}});
+}
+
+void ServerMetrics::observe_step(const StepStats& s) {
+  world_phase_move.observe(s.move_us * 1e-6);
+  world_phase_params.observe(s.params_us * 1e-6);
+  world_phase_search.observe(s.broadphase_us * 1e-6);
+  world_phase_solve.observe(s.solve_us * 1e-6);
+  if (s.pair_list_reused == 0) world_searches.inc();
+  world_second_searches.inc(s.second_search);
+  world_capped_bodies.inc(s.capped_bodies);
+  world_tunnel_clamps.inc(s.tunnel_clamps);
+  world_pile_relief_bodies.inc(s.pile_relief_bodies);
+  world_candidate_pairs.set(s.candidate_pairs);
+  world_solver_max_pen.set(s.max_pen_over_radius);
 }
 
 }  // namespace throng::server

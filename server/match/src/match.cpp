@@ -110,7 +110,7 @@ const TickReport& Match::tick(Outbox& out) {
   const auto t2 = clock::now();
   m.ai.update(m.world(), m.controller, m.yaw);
   const auto t3 = clock::now();
-  m.world().step();
+  r.world = m.world().step();
   m.follow_reorder();
   r.push_events = static_cast<std::uint32_t>(m.world().push_events().size());
   r.state_hash = m.world().state_hash();

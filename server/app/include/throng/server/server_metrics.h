@@ -47,6 +47,21 @@ struct ServerMetrics {
   admin::Counter& log_ticks_dropped;
   admin::Counter& log_keyframes_dropped;
   admin::Counter& log_write_errors;
+  // The world's step (StepStats): where its time goes and how often it searches.
+  admin::Histogram& world_phase_move;
+  admin::Histogram& world_phase_params;
+  admin::Histogram& world_phase_search;
+  admin::Histogram& world_phase_solve;
+  admin::Counter& world_searches;
+  admin::Counter& world_second_searches;
+  admin::Counter& world_capped_bodies;
+  admin::Counter& world_tunnel_clamps;
+  admin::Counter& world_pile_relief_bodies;
+  admin::Gauge& world_candidate_pairs;
+  admin::Gauge& world_solver_max_pen;
+
+  // Everything above that a StepStats feeds (atomics only).
+  void observe_step(const StepStats& s);
 };
 
 }  // namespace throng::server

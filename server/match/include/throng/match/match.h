@@ -24,6 +24,7 @@
 #include "throng/match/match_config.h"
 #include "throng/protocol/messages.h"
 #include "throng/scene/scene_def.h"
+#include "throng/world/step_stats.h"
 
 namespace throng {
 class World;
@@ -67,6 +68,7 @@ struct TickReport {
   double view_error_max_m = 0;    // over all clients this tick
   std::uint32_t contact_pairs = 0;     // pairs sent on the contacts channel this tick, all clients
   std::uint32_t contacts_refused = 0;  // commands asking for contacts the channel had no room for
+  StepStats world;  // what the world's step did (phase times, searches, solver figures)
 };
 
 // Lifecycle events the transport must act on (open/close a client's snapshot channel) and the
