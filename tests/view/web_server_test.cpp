@@ -2,6 +2,12 @@
 // cross-origin refusal and a port in use.
 #include <gtest/gtest.h>
 
+#include <boost/asio/connect.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/write.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
 #include <cctype>
 #include <fstream>
 #include <stdexcept>
@@ -37,6 +43,29 @@ std::optional<std::string> read_until(WsClient& ws, const std::string& needle, s
   return std::nullopt;
 }
 
+// Sends raw bytes (requests no browser would produce) and reads one response; nullopt if the
+// server closed or the deadline passed instead.
+std::optional<boost::beast::http::response<boost::beast::http::string_body>> raw_exchange(std::uint16_t port,
+                                                                                          const std::string& bytes) {
+  namespace beast = boost::beast;
+  boost::asio::io_context io;
+  beast::tcp_stream stream(io);
+  beast::flat_buffer buffer;
+  beast::http::response<beast::http::string_body> res;
+  bool done = false;
+  stream.expires_after(5s);
+  stream.async_connect({boost::asio::ip::make_address("127.0.0.1"), port}, [&](beast::error_code ec) {
+    if (ec) return;
+    boost::asio::async_write(stream, boost::asio::buffer(bytes), [&](beast::error_code wec, std::size_t) {
+      if (wec) return;
+      beast::http::async_read(stream, buffer, res, [&](beast::error_code rec, std::size_t) { done = !rec; });
+    });
+  });
+  io.run_for(6s);
+  if (!done) return std::nullopt;
+  return res;
+}
+
 TEST(WebServer, ServesTheEmbeddedPage) {
   WebServer web(any_port(), echo_upper);
   ASSERT_NE(web.port(), 0);
@@ -54,6 +83,27 @@ TEST(WebServer, ServesTheEmbeddedPage) {
   EXPECT_EQ(http_request("127.0.0.1", web.port(), "/../CMakeLists.txt").status, 404);
   EXPECT_EQ(http_request("127.0.0.1", web.port(), "/", "POST").status, 405);
   EXPECT_EQ(http_request("127.0.0.1", web.port(), "/", "HEAD").status, 200);
+}
+
+TEST(WebServer, RefusesWhatItCannotParseInItsOwnStyle) {
+  WebServer web(any_port(), echo_upper);
+  namespace http = boost::beast::http;
+  const auto bad = raw_exchange(web.port(), "\x01\x02 nonsense\r\n\r\n");
+  ASSERT_TRUE(bad);
+  EXPECT_EQ(bad->result(), http::status::bad_request);
+  EXPECT_EQ(bad->body(), "bad request\n");
+  EXPECT_EQ(bad->at(http::field::server), "throng-view");
+  EXPECT_FALSE(bad->keep_alive());
+  const std::string pad(16 * 1024, 'a');
+  const auto header = raw_exchange(web.port(), "GET / HTTP/1.1\r\nHost: x\r\nX-Pad: " + pad + "\r\n\r\n");
+  ASSERT_TRUE(header);
+  EXPECT_EQ(header->result(), http::status::request_header_fields_too_large);
+  EXPECT_EQ(header->at(http::field::server), "throng-view");
+  const std::string big(8192, 'b');  // over the view's body limit (kHttpBodyLimit)
+  const auto body = raw_exchange(web.port(), "POST / HTTP/1.1\r\nHost: x\r\nContent-Length: 8192\r\n\r\n" + big);
+  ASSERT_TRUE(body);
+  EXPECT_EQ(body->result(), http::status::payload_too_large);
+  EXPECT_EQ(body->body(), "payload too large\n");
 }
 
 TEST(WebServer, ServesAWebRootWithoutLeavingIt) {

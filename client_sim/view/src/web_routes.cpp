@@ -1,5 +1,5 @@
 // The page server's routing (web_routes.h): which asset, which status, whether a WebSocket upgrade
-// is accepted. Pure functions of the request; web_server.cpp does the I/O.
+// is accepted. Pure functions of the request; throng::http and web_server.cpp do the I/O.
 #include "web_routes.h"
 
 #include <algorithm>

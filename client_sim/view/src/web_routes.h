@@ -1,6 +1,6 @@
 #pragma once
 // The page server's HTTP routing as a pure function of one parsed request: no sockets, no threads,
-// so the session code in web_server.cpp only moves bytes, and the routing is tested and fuzzed
+// so the session code (throng::http) only moves bytes, and the routing is tested and fuzzed
 // (tests/fuzz/view_http.cpp) without a network. Routes: see web_server.h.
 #include <cstddef>
 #include <optional>

@@ -1,23 +1,22 @@
-// WebServer: listener, HTTP sessions (page + assets), WebSocket sessions (/ws). One io_context
-// run by one thread owned by the server: no handler needs a lock; other threads only post().
+// WebServer: the page routes (web_routes.h) served by a throng::http listener, and the WebSocket
+// sessions (/ws) it hands upgraded connections to. One io_context run by one thread owned by the
+// listener: no handler needs a lock; other threads only post().
 #include "throng/view/web_server.h"
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <cstdio>
 #include <deque>
 #include <stdexcept>
-#include <thread>
 #include <vector>
 
-#include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
-#include <boost/asio/post.hpp>
-#include <boost/asio/steady_timer.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
 
+#include "throng/http/listener.h"
 #include "web_routes.h"
 
 namespace throng::view {
@@ -30,49 +29,26 @@ using tcp = asio::ip::tcp;
 
 namespace {
 
-std::string endpoint_text(const std::string& address, std::uint16_t port) {
-  const bool v6 = address.find(':') != std::string::npos;
-  return (v6 ? "[" + address + "]" : address) + ":" + std::to_string(port);
-}
-
-std::string reason_text(const boost::system::error_code& ec) {
-  if (ec == asio::error::address_in_use) return "address in use";
-  if (ec == asio::error::access_denied) return "permission denied";
-  if (ec == boost::system::errc::address_not_available) return "address not available on this host";
-  return ec.message();
-}
-
 using Message = std::shared_ptr<const std::string>;
 
 }  // namespace
 
 class WsSession;
 
-// Everything the sessions share (the pimpl itself is private to WebServer).
+// What the WebSocket sessions share (the pimpl itself is private to WebServer).
 struct WebCore {
+  WebCore(WebServerOptions o, WebServer::MessageHandler m) : options(std::move(o)), on_message(std::move(m)) {}
+
   WebServerOptions options;
   WebServer::MessageHandler on_message;
-  std::uint16_t port = 0;
   std::atomic<std::size_t> ws_open{0};
   // --- web thread only ---
-  std::size_t open_connections = 0;
   Message greeting;
   std::vector<std::weak_ptr<WsSession>> sessions;
-  // Destroyed in stop(): I/O objects first, then the io_context (which frees pending sessions).
-  std::unique_ptr<asio::io_context> io;
-  std::unique_ptr<tcp::acceptor> acceptor;
-  std::unique_ptr<asio::steady_timer> accept_retry;
-  std::thread thread;
 
-  void listen();
-  void accept();
-  void run();
-  void stop();
   template <class Fn>
   void each_session(Fn fn);
 };
-
-struct WebServer::Impl : WebCore {};
 
 // --- WebSocket session ------------------------------------------------------------------------
 class WsSession : public std::enable_shared_from_this<WsSession> {
@@ -173,95 +149,47 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
   bool registered_ = false;
 };
 
-// --- HTTP session -----------------------------------------------------------------------------
-class HttpSession : public std::enable_shared_from_this<HttpSession> {
- public:
-  HttpSession(tcp::socket socket, WebCore& server) : stream_(std::move(socket)), server_(server) {
-    ++server_.open_connections;
-  }
-  ~HttpSession() { --server_.open_connections; }
-
-  void read() {
-    parser_.emplace();
-    parser_->header_limit(kHttpHeaderLimit);
-    parser_->body_limit(kHttpBodyLimit);
-    stream_.expires_after(server_.options.http_timeout);
-    http::async_read(stream_, buffer_, *parser_,
-                     [self = shared_from_this()](beast::error_code ec, std::size_t) { self->on_read(ec); });
-  }
-
- private:
-  void on_read(beast::error_code ec) {
-    if (ec == http::error::end_of_stream) return close();
-    if (ec) {
-      if (ec.category() == http::make_error_code(http::error::bad_method).category())
-        return write(text_response(http::status::bad_request, "bad request\n", 11, false));
-      return;  // timeout, reset, stop()
-    }
-    auto req = parser_->release();
-    if (auto res = route_request(req, server_.options.web_root)) return write(std::move(*res));
-    stream_.expires_never();  // an accepted WebSocket upgrade
-    std::make_shared<WsSession>(stream_.release_socket(), server_)->start(std::move(req));
-  }
-
-  void write(HttpResponse res) {
-    response_ = std::move(res);
-    const bool keep_alive = response_.keep_alive();
-    stream_.expires_after(server_.options.http_timeout);
-    http::async_write(stream_, response_, [self = shared_from_this(), keep_alive](beast::error_code ec, std::size_t) {
-      if (ec) return;
-      if (keep_alive) return self->read();
-      self->close();
-    });
-  }
-
-  void close() {
-    beast::error_code ignored;
-    stream_.socket().shutdown(tcp::socket::shutdown_send, ignored);
-  }
-
-  beast::tcp_stream stream_;
-  WebCore& server_;
-  beast::flat_buffer buffer_;
-  std::optional<http::request_parser<http::string_body>> parser_;
-  HttpResponse response_;
-};
-
 // --- server -----------------------------------------------------------------------------------
-void WebCore::listen() {
-  boost::system::error_code ec;
-  const auto address = asio::ip::make_address(options.bind_address, ec);
-  if (ec) throw std::runtime_error("invalid bind address \"" + options.bind_address + "\"");
-  const tcp::endpoint endpoint(address, options.port);
-  const auto fail = [&](const boost::system::error_code& why) {
-    throw std::runtime_error("cannot listen on " + endpoint_text(options.bind_address, options.port) + ": " +
-                             reason_text(why));
-  };
-  io = std::make_unique<asio::io_context>(1);
-  acceptor = std::make_unique<tcp::acceptor>(*io);
-  accept_retry = std::make_unique<asio::steady_timer>(*io);
-  if (acceptor->open(endpoint.protocol(), ec); ec) fail(ec);
-  if (acceptor->set_option(tcp::acceptor::reuse_address(true), ec); ec) fail(ec);
-  if (acceptor->bind(endpoint, ec); ec) fail(ec);
-  if (acceptor->listen(asio::socket_base::max_listen_connections, ec); ec) fail(ec);
-  port = acceptor->local_endpoint().port();
+namespace {
+
+throng::http::ListenerOptions listener_options(const WebServerOptions& o) {
+  throng::http::ListenerOptions l;
+  l.name = "throng-view";
+  l.bind_address = o.bind_address;
+  l.port = o.port;
+  l.max_connections = o.max_connections;
+  l.io_timeout = o.http_timeout;
+  l.header_limit = kHttpHeaderLimit;
+  l.body_limit = kHttpBodyLimit;
+  return l;
 }
 
-void WebCore::accept() {
-  acceptor->async_accept([this](boost::system::error_code ec, tcp::socket socket) {
-    if (ec == asio::error::operation_aborted) return;
-    if (ec) {  // e.g. out of file descriptors: retry shortly instead of spinning
-      accept_retry->expires_after(std::chrono::milliseconds(100));
-      accept_retry->async_wait([this](boost::system::error_code wait_ec) {
-        if (!wait_ec) accept();
-      });
-      return;
-    }
-    if (open_connections + ws_open.load() < options.max_connections)
-      std::make_shared<HttpSession>(std::move(socket), *this)->read();
-    accept();
-  });
+// The listener's answer to a request it could not parse, in the page server's own style
+// ("bad request\n", Server: throng-view).
+HttpResponse refusal(http::status status) {
+  std::string body(http::obsolete_reason(status));
+  for (char& c : body) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return text_response(status, body + "\n", 11, false);
 }
+
+}  // namespace
+
+struct WebServer::Impl : WebCore {
+  Impl(WebServerOptions opts, MessageHandler handler) : WebCore(std::move(opts), std::move(handler)) {
+    throng::http::HttpHandlers h;
+    h.route = [this](const HttpRequest& req) { return route_request(req, options.web_root); };
+    h.upgrade = [this](tcp::socket socket, HttpRequest req) {
+      std::make_shared<WsSession>(std::move(socket), *this)->start(std::move(req));
+    };
+    h.refuse = refusal;
+    // Open pages hold connections too: the cap counts them with the HTTP ones.
+    h.other_connections = [this] { return ws_open.load(); };
+    listener = std::make_unique<throng::http::HttpListener>(listener_options(options), std::move(h));
+  }
+
+  // Stopped (its thread joined, its sessions freed) before the state they use goes away.
+  std::unique_ptr<throng::http::HttpListener> listener;
+};
 
 template <class Fn>
 void WebCore::each_session(Fn fn) {
@@ -271,56 +199,28 @@ void WebCore::each_session(Fn fn) {
   }
 }
 
-void WebCore::run() {
-  for (;;) {
-    try {
-      io->run();
-      return;
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "throng-view: web handler failed: %s\n", e.what());
-    }
-  }
-}
-
-void WebCore::stop() {
-  if (!io) return;
-  io->stop();
-  if (thread.joinable()) thread.join();
-  accept_retry.reset();
-  acceptor.reset();
-  sessions.clear();
-  io.reset();
-}
-
-WebServer::WebServer(WebServerOptions options, MessageHandler on_message) : impl_(std::make_unique<Impl>()) {
-  impl_->options = std::move(options);
-  impl_->on_message = std::move(on_message);
-  impl_->listen();
-  impl_->accept();
-  impl_->thread = std::thread([impl = impl_.get()] { impl->run(); });
-}
+WebServer::WebServer(WebServerOptions options, MessageHandler on_message)
+    : impl_(std::make_unique<Impl>(std::move(options), std::move(on_message))) {}
 
 WebServer::~WebServer() { stop(); }
 
-std::uint16_t WebServer::port() const noexcept { return impl_->port; }
+std::uint16_t WebServer::port() const noexcept { return impl_->listener->port(); }
 
 std::size_t WebServer::sessions() const noexcept { return impl_->ws_open.load(); }
 
 void WebServer::set_greeting(std::string message) {
-  if (!impl_->io) return;
-  asio::post(*impl_->io, [impl = impl_.get(), m = std::make_shared<const std::string>(std::move(message))] {
+  impl_->listener->post([impl = impl_.get(), m = std::make_shared<const std::string>(std::move(message))] {
     impl->greeting = m;
     impl->each_session([&](WsSession& s) { s.send(m, false); });
   });
 }
 
 void WebServer::broadcast(std::string message) {
-  if (!impl_->io) return;
-  asio::post(*impl_->io, [impl = impl_.get(), m = std::make_shared<const std::string>(std::move(message))] {
+  impl_->listener->post([impl = impl_.get(), m = std::make_shared<const std::string>(std::move(message))] {
     impl->each_session([&](WsSession& s) { s.send(m, true); });
   });
 }
 
-void WebServer::stop() { impl_->stop(); }
+void WebServer::stop() { impl_->listener->stop(); }
 
 }  // namespace throng::view

@@ -8,9 +8,10 @@
 //                         only flat names of [A-Za-z0-9._-], so no path can leave the folder)
 //   GET /ws + Upgrade     WebSocket: the greeting (latest match message) first, then broadcasts;
 //                         page text messages go to on_message, whose answer (if any) is sent back
-//   other path 404, other method 405, bad request 400. A WebSocket upgrade whose Origin header
-//   (browsers always send one) is not this server (http://<Host>) gets 403, so another web site
-//   open in the same browser cannot drive the character.
+//   other path 404, other method 405, bad request 400, oversized header 431 or body 413. A
+//   WebSocket upgrade whose Origin header (browsers always send one) is not this server
+//   (http://<Host>) gets 403, so another web site open in the same browser cannot drive the
+//   character.
 //
 // Backpressure: a session keeps at most max_queued_frames droppable messages (frames) waiting;
 // older waiting frames are dropped for newer ones. Greetings and replies are never dropped.
