@@ -18,6 +18,7 @@ PACKAGES=(
   libspdlog-dev        # server/bot logs with levels and timestamps
   chromium             # headless browser for throng-view's end-to-end test (DevTools protocol)
   libzstd-dev          # match-log tick blocks compressed with zstd
+  prometheus-cpp-dev   # /metrics: the metrics registry and its Prometheus text format (core library only)
   openssl              # throng-pki: DDS Security certificates and signed governance/permissions
   iproute2 python3     # the hosting test: a match over TCP across network namespaces (ip netns), its report
   curl                 # deploy/soak.sh reads the admin endpoint
