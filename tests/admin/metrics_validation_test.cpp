@@ -3,9 +3,11 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
 #include <stdexcept>
 #include <string>
 
+#include "exposition_parser.h"
 #include "throng/admin/metrics.h"
 
 namespace throng::admin {
@@ -46,6 +48,16 @@ TEST(MetricsValidation, HelpMustNotBeEmpty) {
   EXPECT_THROW(reg.counter("throng_x_total", ""), std::invalid_argument);
 }
 
+TEST(MetricsValidation, HelpMustNotHoldNewlineOrBackslash) {
+  // prometheus-cpp writes HELP unescaped: either would garble the exposition.
+  MetricsRegistry reg;
+  const std::string why = rejection([&] { reg.counter("throng_x_total", "two\nlines"); });
+  EXPECT_NE(why.find("throng_x_total"), std::string::npos) << why;
+  EXPECT_THROW(reg.gauge("throng_y", "line one\nline two"), std::invalid_argument);
+  EXPECT_THROW(reg.gauge("throng_z", "back\\slash"), std::invalid_argument);
+  EXPECT_NO_THROW(reg.gauge("throng_w", "\"quotes\" are fine"));
+}
+
 TEST(MetricsValidation, LabelNames) {
   MetricsRegistry reg;
   EXPECT_THROW(reg.counter("throng_a_total", "a", {{"1abc", "v"}}), std::invalid_argument);
@@ -66,6 +78,18 @@ TEST(MetricsValidation, FamilyMustAgreeOnTypeHelpAndLabelNames) {
   EXPECT_THROW(reg.counter("throng_rejected_total", "Rejected.", {{"cause", "x"}}), std::invalid_argument);
   EXPECT_THROW(reg.counter("throng_rejected_total", "Rejected."), std::invalid_argument);
   EXPECT_NO_THROW(reg.counter("throng_rejected_total", "Rejected.", {{"reason", "speed"}}));
+  const std::string why = rejection([&] { reg.histogram("throng_rejected_total", "Rejected.", {1.0}); });
+  EXPECT_NE(why.find("throng_rejected_total"), std::string::npos) << why;
+  EXPECT_NE(why.find("counter"), std::string::npos) << why;
+}
+
+TEST(MetricsValidation, LabelNamesMayComeInAnyOrder) {
+  // Series render their labels sorted by name, so the order given makes no other family.
+  MetricsRegistry reg;
+  reg.counter("throng_bytes_total", "Bytes.", {{"dir", "out"}, {"topic", "snapshot"}});
+  EXPECT_NO_THROW(reg.counter("throng_bytes_total", "Bytes.", {{"topic", "contacts"}, {"dir", "out"}}));
+  EXPECT_THROW(reg.counter("throng_bytes_total", "Bytes.", {{"topic", "snapshot"}, {"dir", "out"}}),
+               std::invalid_argument);  // the first series again
 }
 
 TEST(MetricsValidation, SameSeriesTwiceIsRejected) {
@@ -100,7 +124,17 @@ TEST(MetricsValidation, RejectedRegistrationLeavesNoTrace) {
   MetricsRegistry reg;
   EXPECT_THROW(reg.histogram("throng_bad", "b", {2.0, 1.0}), std::invalid_argument);
   EXPECT_THROW(reg.counter("throng_dup_total", "d", {{"k", "1"}, {"k", "2"}}), std::invalid_argument);
+  EXPECT_THROW(reg.gauge("throng_help", "a\nb"), std::invalid_argument);
+  EXPECT_THROW(reg.histogram("throng_le", "l", {1.0}, {{"le", "1"}}), std::invalid_argument);
   EXPECT_EQ(reg.render(), "");
+  // A rejected series of an existing family leaves that family as it was.
+  Counter& kept = reg.counter("throng_kept_total", "k", {{"k", "1"}});
+  kept.inc(5);
+  EXPECT_THROW(reg.counter("throng_kept_total", "k", {{"k", "1"}}), std::invalid_argument);
+  EXPECT_THROW(reg.counter("throng_kept_total", "other help", {{"k", "2"}}), std::invalid_argument);
+  const auto e = test::parse_exposition(reg.render());
+  EXPECT_EQ(e.help.at("throng_kept_total"), "k");
+  EXPECT_EQ(e.samples, (std::map<std::string, double>{{"throng_kept_total{k=\"1\"}", 5.0}}));
 }
 
 }  // namespace

@@ -1,21 +1,27 @@
 #include "throng/admin/metric_types.h"
 
-#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
+
+#include <prometheus/counter.h>
+#include <prometheus/gauge.h>
+#include <prometheus/histogram.h>
 
 namespace throng::admin {
 
-Histogram::Histogram(std::vector<double> bounds)
-    : bounds_(std::move(bounds)), slots_(std::make_unique<std::atomic<std::uint64_t>[]>(bounds_.size() + 1)) {}
+void Counter::inc(std::uint64_t n) noexcept { metric_->Increment(static_cast<double>(n)); }
+std::uint64_t Counter::value() const noexcept { return static_cast<std::uint64_t>(metric_->Value()); }
+
+void Gauge::set(double v) noexcept { metric_->Set(v); }
+void Gauge::add(double d) noexcept { metric_->Increment(d); }
+double Gauge::value() const noexcept { return metric_->Value(); }
 
 void Histogram::observe(double v) noexcept {
-  // First bound >= v. NaN compares false with everything, so it falls through to the +Inf slot
-  // (as in the Go client) instead of landing in the first bucket.
-  const auto it = std::lower_bound(bounds_.begin(), bounds_.end(), v);
-  const std::size_t slot = std::isnan(v) ? bounds_.size() : static_cast<std::size_t>(it - bounds_.begin());
-  slots_[slot].fetch_add(1, std::memory_order_relaxed);
-  sum_.fetch_add(v, std::memory_order_relaxed);
+  // prometheus-cpp finds the bucket with lower_bound, where NaN compares false with every bound and
+  // so lands in the first bucket. Counted as +Inf it lands in +Inf only, as the Go client puts it;
+  // the sum then reads +Inf instead of NaN, spoilt either way.
+  metric_->Observe(std::isnan(v) ? std::numeric_limits<double>::infinity() : v);
 }
 
 std::vector<double> linear_buckets(double start, double width, std::size_t count) {
