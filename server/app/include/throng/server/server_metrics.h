@@ -1,6 +1,7 @@
 #pragma once
 // The server's Prometheus metrics (all named throng_*), registered once at start-up so the tick
-// only touches atomics. What each one means is in its help text, which /metrics serves.
+// never allocates for them (atomics, and a histogram's own short lock). What each one means is in
+// its help text, which /metrics serves.
 #include <array>
 
 #include "throng/admin/metrics.h"
@@ -60,7 +61,7 @@ struct ServerMetrics {
   admin::Gauge& world_candidate_pairs;
   admin::Gauge& world_solver_max_pen;
 
-  // Everything above that a StepStats feeds (atomics only).
+  // Everything above that a StepStats feeds (no allocation).
   void observe_step(const StepStats& s);
 };
 
