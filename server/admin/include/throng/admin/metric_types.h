@@ -1,8 +1,8 @@
 // The three Prometheus metric types as the tick thread sees them: handles onto prometheus-cpp
-// metrics that the registry owns. Updates neither allocate nor block on a scrape: counters and
-// gauges are a compare-and-swap on an atomic double; a histogram observation takes that
-// histogram's own mutex (prometheus-cpp's), held only for two additions and shared with nothing
-// but a scrape copying that one histogram.
+// metrics that the registry owns. Updates never allocate. Counters and gauges are a
+// compare-and-swap on an atomic double; a histogram observation takes that histogram's own mutex
+// (prometheus-cpp's), held for two additions, which a scrape holds only while it copies that one
+// histogram: at worst a tick waits for one histogram's copy.
 //
 // Only MetricsRegistry makes them, at a stable address for its lifetime; callers keep the
 // returned reference. prometheus-cpp stays out of this header (its types are only declared), so
