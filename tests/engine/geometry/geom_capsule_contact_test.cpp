@@ -9,7 +9,7 @@
 
 #include "throng/geometry/capsule_contact.h"
 #include "throng/geometry/capsule_pair_generator.h"
-#include "throng/geometry/upright_contact.h"
+#include "geometry/upright_contact.h"
 
 namespace throng::geom {
 namespace {

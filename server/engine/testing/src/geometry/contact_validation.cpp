@@ -11,7 +11,7 @@
 #include <cmath>
 #include <utility>
 
-#include "fcl_shapes.h"
+#include "geometry/fcl_shapes.h"
 #include "throng/geometry/capsule_contact.h"
 #include "throng/geometry/contact_reference.h"
 

@@ -1,6 +1,6 @@
 #pragma once
-// Exact contact between upright capsules: the crowd solver's hot path, so everything is inline,
-// branch-light and allocation-free.
+// Exact contact between upright capsules in closed form: a second derivation that the capsule
+// contact tests hold capsule_capsule to (nothing outside the tests uses it).
 //
 // Two vertical segments are a product of a horizontal point and a z-interval each, so the distance
 // between the cores is sqrt(dxy^2 + gap_z^2) with gap_z the gap between the z-intervals (0 when
