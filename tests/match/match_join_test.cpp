@@ -1,3 +1,4 @@
+#include <nlohmann/json.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -288,7 +289,7 @@ TEST(MatchJoin, TakeoverSetsPlayerParamsAndLeaveRestoresThem) {
 
 TEST(MatchJoin, PlayerArchetypeImportanceIsUsedWhenTheTableHasOne) {
   scene::SceneDef s = two_armies(4);
-  s.params.inline_doc = nlohmann::json::parse(R"({
+  s.params.inline_json = nlohmann::json::parse(R"({
     "archetypes": {
       "infantry": { "kind": "foot", "weight": 80, "importance": 2 },
       "player": { "character_type": "player", "importance": 6.5 },
@@ -296,7 +297,7 @@ TEST(MatchJoin, PlayerArchetypeImportanceIsUsedWhenTheTableHasOne) {
       "bush": { "kind": "scenery", "character_type": "prop", "fixed": true, "softness": 0.6 }
     },
     "groups": [ { "id": 1 }, { "id": 2 } ]
-  })");
+  })").dump();
   Match m(s, small_config(), "m1");
   Outbox out;
   const protocol::JoinReply reply = test::join_one(m, out, 5);

@@ -1,4 +1,5 @@
 // The NPC AI inside a match (battle scene) and on its own (small worlds).
+#include <nlohmann/json.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -99,7 +100,7 @@ scene::SceneDef armies_with_morale(double group2_morale) {
     "groups": [ { "id": 1 }, { "id": 2 } ]
   })");
   doc["groups"][1]["morale"] = group2_morale;
-  s.params.inline_doc = doc;
+  s.params.inline_json = doc.dump();
   return s;
 }
 

@@ -1,5 +1,6 @@
 // Writer -> reader round trips: random inputs come back bit for bit under every writer setting;
 // seeking; the same inputs give the same file apart from the header's wall-clock time.
+#include <nlohmann/json.hpp>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -148,14 +149,14 @@ TEST(RoundTrip, FileBasedParamsArePutInlineAndSimulateTheSame) {
   for (auto& g : s.spawns) g.archetype = "infantry";  // archetypes the designers' file defines
   for (auto& sc : s.scenery) sc.archetype = sc.archetype == "bush" ? "bush" : "wall";
   s.params.file = data + "default_params.json";
-  s.params.inline_doc = nullptr;
+  s.params.inline_json.clear();
   s.policy.file = data + "default_policy.json";
-  s.policy.inline_doc = nullptr;
+  s.policy.inline_json.clear();
   const scene::SceneDef inlined = self_contained_scene(s);
   EXPECT_TRUE(inlined.params.file.empty());
-  EXPECT_TRUE(inlined.params.inline_doc.is_object());
+  EXPECT_TRUE(nlohmann::json::parse(inlined.params.inline_json).is_object());
   EXPECT_TRUE(inlined.policy.file.empty());
-  EXPECT_TRUE(inlined.policy.inline_doc.is_object());
+  EXPECT_TRUE(nlohmann::json::parse(inlined.policy.inline_json).is_object());
   match::Match a(s, test::small_config(), "m"), b(inlined, test::small_config(), "m");
   match::Outbox out;
   for (int t = 0; t < 20; ++t) ASSERT_EQ(a.tick(out).state_hash, b.tick(out).state_hash) << t;

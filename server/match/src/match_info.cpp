@@ -100,8 +100,8 @@ std::string canonical_table_text(const params::ParamTable& table, const scene::D
   }
   if (!source.file.empty()) {
     s += "\nfile:" + read_file_text(source.file);
-  } else if (!source.inline_doc.is_null()) {
-    s += "\ninline:" + source.inline_doc.dump();
+  } else if (!source.inline_json.empty()) {
+    s += "\ninline:" + source.inline_json;
   }
   return s;
 }

@@ -62,11 +62,11 @@ std::uint64_t parse_hex64(const std::string& s, const char* key) {
 scene::SceneDef self_contained_scene(const scene::SceneDef& scene) {
   scene::SceneDef s = scene;
   if (!s.params.file.empty()) {
-    s.params.inline_doc = read_document(s.params.file, "parameter table");
+    s.params.inline_json = read_document(s.params.file, "parameter table").dump();
     s.params.file.clear();
   }
   if (!s.policy.file.empty()) {
-    s.policy.inline_doc = read_document(s.policy.file, "push policy");
+    s.policy.inline_json = read_document(s.policy.file, "push policy").dump();
     s.policy.file.clear();
   }
   return s;

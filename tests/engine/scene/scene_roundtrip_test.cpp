@@ -53,7 +53,7 @@ TEST(SceneRoundTrip, InlineAndOptionalFieldsSurvive) {
   s.spawns[0].z_m = 2.0;
   s.spawns[0].params["hp"] = 50.0;
   s.scenery[0].params["softness"] = 0.25;
-  s.policy.inline_doc = {{"mode", "half"}};
+  s.policy.inline_json = nlohmann::json{{"mode", "half"}}.dump();
   s.settings.iterations = 3;
   s.settings.warm_start = false;
   EXPECT_EQ(through_text(s), s);

@@ -1,5 +1,6 @@
 #include "throng/scene/build_scene.h"
 
+#include <nlohmann/json.hpp>
 #include <numbers>
 
 #include "throng/params/config_error.h"
@@ -18,7 +19,7 @@ template <typename T, typename FromJson, typename FromFile, typename Builtin>
 T load_source(const DocumentSource& src, const char* field, FromJson from_json, FromFile from_file, Builtin builtin) {
   try {
     if (!src.file.empty()) return from_file(src.file);
-    if (!src.inline_doc.is_null()) return from_json(src.inline_doc);
+    if (!src.inline_json.empty()) return from_json(nlohmann::json::parse(src.inline_json));
     return builtin();
   } catch (const params::ConfigError& e) {
     if (!src.file.empty()) throw SceneError(field, "in '" + src.file + "': " + e.what());

@@ -16,7 +16,8 @@ Json vec(Vec3 v) { return Json::array({v.x, v.y, v.z}); }
 
 Json source(const DocumentSource& s) {
   if (!s.file.empty()) return s.file;
-  return s.inline_doc;  // null = defaults
+  if (s.inline_json.empty()) return nullptr;  // the defaults
+  return Json::parse(s.inline_json);
 }
 
 Json settings(const WorldSettings& s) {

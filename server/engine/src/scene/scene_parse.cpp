@@ -88,7 +88,7 @@ DocumentSource read_source(const nlohmann::json* j, const std::string& path, con
     if (!base_dir.empty() && std::filesystem::path(src.file).is_relative())
       src.file = std::filesystem::absolute(std::filesystem::path(base_dir) / src.file).lexically_normal().string();
   } else if (j->is_object()) {
-    src.inline_doc = *j;
+    src.inline_json = j->dump();
   } else {
     throw SceneError(path, "must be a file path (string), an inline object, or null for the defaults");
   }

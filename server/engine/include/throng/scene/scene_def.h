@@ -14,8 +14,6 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "throng/core/vec3.h"
 #include "throng/world/world_settings.h"
 
@@ -32,8 +30,11 @@ struct Vec2 {
 // folder when the scene is loaded, so a scene can ship next to its parameter files.
 struct DocumentSource {
   std::string file;
-  nlohmann::json inline_doc;  // null when unused
-  bool is_default() const { return file.empty() && inline_doc.is_null(); }
+  // The inline JSON object as compact text (nlohmann's dump(): keys sorted, numbers exact), empty
+  // when unused. Text rather than a JSON value so that this header, which every user of a scene
+  // or a match includes, does not bring the whole JSON library along; scene_json.h reads it.
+  std::string inline_json;
+  bool is_default() const { return file.empty() && inline_json.empty(); }
   bool operator==(const DocumentSource&) const = default;
 };
 
