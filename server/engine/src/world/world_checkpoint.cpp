@@ -25,6 +25,7 @@
 
 #include "throng/world/world.h"
 #include "world/param_codec.h"
+#include "world/settings_fields.h"
 #include "world/body_limits.h"
 #include "world/world_impl.h"
 #include "world/world_state.h"
@@ -58,11 +59,16 @@ std::string hex(std::uint64_t v) {
 
 std::uint64_t World::Impl::config_hash() const {
   Fnv f;
-  const WorldSettings& s = settings;  // every field but iterations (set_iterations is state)
-  f.add(s.dt_s); f.add(s.contact_margin_m); f.add(s.pair_list_skin_m); f.add(s.converged_pen_over_radius);
-  f.add(static_cast<std::uint8_t>(s.record_push_events)); f.add(static_cast<std::uint8_t>(s.warm_start));
-  f.add(s.blocked_motion_carry); f.add(s.conflict_share_limit); f.add(s.max_candidates_per_body);
-  f.add(s.cell_size_m); f.add(s.morale_radius_m); f.add(s.morale_refresh_ticks);
+  // Every field of the settings table but iterations (set_iterations is state, saved as such), in
+  // the table's order; a flag as one byte. Not threads: the thread count never changes a result.
+  for (const detail::SettingField& field : detail::kSettingFields) {
+    if (field.u32 == &WorldSettings::iterations) continue;
+    switch (field.type) {
+      case detail::SettingField::Type::f64: f.add(settings.*field.f64); break;
+      case detail::SettingField::Type::u32: f.add(settings.*field.u32); break;
+      case detail::SettingField::Type::boolean: f.add(static_cast<std::uint8_t>(settings.*field.boolean)); break;
+    }
+  }
   f.add(static_cast<std::uint64_t>(scenery.size()));
   for (ObjectId id : fixed_ids) f.add(id.value);
   return f.h;
