@@ -4,59 +4,39 @@
 
 namespace throng::client_sim {
 
-namespace {
-std::uint64_t random64() {
-  std::random_device rd;
-  std::uint64_t v = 0;
-  while (v == 0) v = (static_cast<std::uint64_t>(rd()) << 32) ^ rd();
-  return v;
-}
-}  // namespace
-
-const char* Bot::to_string(State s) {
-  switch (s) {
-    case State::created: return "created";
-    case State::joining: return "joining";
-    case State::joined: return "joined";
-    case State::refused: return "refused";
-    case State::timed_out: return "timed_out";
-    case State::left: return "left";
-  }
-  return "?";
-}
-
 Bot::Bot(BotConfig config, TimePoint launch)
     : config_(std::move(config)),
       behavior_(make_behavior(config_.behavior)),
+      join_(config_.nonce, config_.name),
       world_(config_.world) {
-  if (config_.nonce == 0) config_.nonce = random64();
-  rng_.seed(config_.seed != 0 ? config_.seed : random64());
+  config_.nonce = join_.nonce();  // the drawn one when the config left it 0
+  rng_.seed(config_.seed != 0 ? config_.seed : JoinHandshake::random_nonce());
   metrics_.on_launch(launch);
 }
 
 Bot::State Bot::state() const {
   std::lock_guard lock(mutex_);
-  return state_;
+  return join_.state();
 }
 std::uint32_t Bot::client_id() const {
   std::lock_guard lock(mutex_);
-  return reply_.client_id;
+  return join_.reply().client_id;
 }
 std::uint32_t Bot::entity() const {
   std::lock_guard lock(mutex_);
-  return reply_.entity;
+  return join_.reply().entity;
 }
 std::string Bot::partition() const {
   std::lock_guard lock(mutex_);
-  return reply_.snapshot_partition;
+  return join_.reply().snapshot_partition;
 }
 std::optional<TimePoint> Bot::join_sent_at() const {
   std::lock_guard lock(mutex_);
-  return join_sent_;
+  return join_.join_sent_at();
 }
 std::optional<TimePoint> Bot::last_join_sent_at() const {
   std::lock_guard lock(mutex_);
-  return last_join_sent_;
+  return join_.last_join_sent_at();
 }
 bool Bot::has_first_snapshot() const {
   std::lock_guard lock(mutex_);
@@ -65,38 +45,22 @@ bool Bot::has_first_snapshot() const {
 
 protocol::JoinRequest Bot::join_request(TimePoint now) {
   std::lock_guard lock(mutex_);
-  state_ = State::joining;
-  if (!join_sent_) join_sent_ = now;
-  last_join_sent_ = now;
-  protocol::JoinRequest r;
-  r.client_nonce = config_.nonce;
-  r.name = config_.name;
-  return r;
+  return join_.join_request(now);
 }
 
 bool Bot::on_join_reply(const protocol::JoinReply& reply) {
   std::lock_guard lock(mutex_);
-  if (reply.client_nonce != config_.nonce || state_ != State::joining) return false;
-  reply_ = reply;
-  state_ = reply.result == protocol::JoinResult::accepted ? State::joined : State::refused;
-  return state_ == State::joined;
+  return join_.on_join_reply(reply);
 }
 
 void Bot::mark_timed_out() {
   std::lock_guard lock(mutex_);
-  if (state_ == State::joining || state_ == State::created) state_ = State::timed_out;
+  join_.mark_timed_out();
 }
 
 std::optional<protocol::JoinRequest> Bot::leave_request() {
   std::lock_guard lock(mutex_);
-  if (state_ != State::joined) return std::nullopt;
-  state_ = State::left;
-  protocol::JoinRequest r;
-  r.client_nonce = config_.nonce;
-  r.name = config_.name;
-  r.leave = true;
-  r.client_id = reply_.client_id;
-  return r;
+  return join_.leave_request();
 }
 
 void Bot::set_match(std::shared_ptr<const MatchView> match) {
@@ -106,8 +70,8 @@ void Bot::set_match(std::shared_ptr<const MatchView> match) {
 
 void Bot::on_snapshot(const protocol::Snapshot& snap, std::size_t wire_bytes, TimePoint now) {
   std::lock_guard lock(mutex_);
-  if (state_ != State::joined && state_ != State::left) return;
-  if (snap.client_id != reply_.client_id) return;  // not ours (never expected: one partition per client)
+  if (join_.state() != State::joined && join_.state() != State::left) return;
+  if (snap.client_id != join_.reply().client_id) return;  // not ours (never expected: one partition per client)
   metrics_.on_snapshot_received(snap.tick, wire_bytes, now);
   if (world_.apply(snap) != ClientWorld::ApplyResult::applied) return;
   last_applied_sequence_ = snap.last_applied_sequence;
@@ -124,8 +88,8 @@ class Bot::Sink final : public CommandSink {
 
   protocol::Command& emit(const Intent& intent, Expect expect) override {
     protocol::Command c;
-    c.client_id = bot_.reply_.client_id;
-    c.entity = bot_.reply_.entity;
+    c.client_id = bot_.join_.reply().client_id;
+    c.entity = bot_.join_.reply().entity;
     c.sequence = bot_.next_sequence_++;
     c.last_seen_tick = bot_.world_.newest_tick().value_or(0);
     c.move_x = intent.move_x;
@@ -157,14 +121,14 @@ class Bot::Sink final : public CommandSink {
 
 void Bot::tick(TimePoint now, std::span<const std::uint32_t> others, std::vector<protocol::Command>& out) {
   std::lock_guard lock(mutex_);
-  if (state_ != State::joined) return;
+  if (join_.state() != State::joined) return;
   const auto self = world_.own_pose();
   if (!self || !first_pose_) return;
   if (!first_tick_time_) first_tick_time_ = now;
   BehaviorContext ctx{world_,
-                      reply_.client_id,
-                      reply_.entity,
-                      reply_.faction,
+                      join_.reply().client_id,
+                      join_.reply().entity,
+                      join_.reply().faction,
                       *self,
                       *first_pose_,
                       std::chrono::duration<double>(now - *first_tick_time_).count(),
@@ -181,11 +145,11 @@ BotReport Bot::report(TimePoint now) const {
   BotReport r;
   r.name = config_.name;
   r.behavior = config_.behavior;
-  r.state = to_string(state_);
-  if (state_ == State::refused) r.refused_reason = reply_.reason;
-  r.client_id = reply_.client_id;
-  r.entity = reply_.entity;
-  r.faction = reply_.faction;
+  r.state = to_string(join_.state());
+  if (join_.state() == State::refused) r.refused_reason = join_.reply().reason;
+  r.client_id = join_.reply().client_id;
+  r.entity = join_.reply().entity;
+  r.faction = join_.reply().faction;
   r.commands = metrics_.commands();
   r.snapshots = metrics_.snapshots();
   r.decode_errors = world_.malformed_count();

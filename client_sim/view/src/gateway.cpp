@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <iterator>
-#include <random>
 #include <vector>
 
 #include <fmt/format.h>
@@ -19,57 +18,18 @@ constexpr auto kWindow = std::chrono::seconds(1);
 // stopped sending them, or they were lost).
 constexpr std::uint64_t kContactsMaxAgeTicks = 15;
 
-std::uint64_t random_nonce() {
-  std::random_device rd;
-  std::uint64_t v = 0;
-  while (v == 0) v = (static_cast<std::uint64_t>(rd()) << 32) ^ rd();
-  return v;
-}
-
 }  // namespace
 
-const char* Gateway::to_string(State s) {
-  switch (s) {
-    case State::created: return "created";
-    case State::joining: return "joining";
-    case State::joined: return "joined";
-    case State::refused: return "refused";
-    case State::left: return "left";
-  }
-  return "?";
+Gateway::Gateway(GatewayOptions options)
+    : options_(std::move(options)), join_(options_.nonce, options_.name), world_(options_.world) {
+  options_.nonce = join_.nonce();  // the drawn one when the options left it 0
 }
 
-Gateway::Gateway(GatewayOptions options) : options_(std::move(options)), world_(options_.world) {
-  if (options_.nonce == 0) options_.nonce = random_nonce();
-}
+protocol::JoinRequest Gateway::join_request(TimePoint now) { return join_.join_request(now); }
 
-protocol::JoinRequest Gateway::join_request(TimePoint now) {
-  if (state_ == State::created) state_ = State::joining;
-  if (!join_sent_) join_sent_ = now;
-  last_join_sent_ = now;
-  protocol::JoinRequest r;
-  r.client_nonce = options_.nonce;
-  r.name = options_.name;
-  return r;
-}
+bool Gateway::on_join_reply(const protocol::JoinReply& reply) { return join_.on_join_reply(reply); }
 
-bool Gateway::on_join_reply(const protocol::JoinReply& reply) {
-  if (reply.client_nonce != options_.nonce || state_ != State::joining) return false;
-  reply_ = reply;
-  state_ = reply.result == protocol::JoinResult::accepted ? State::joined : State::refused;
-  return state_ == State::joined;
-}
-
-std::optional<protocol::JoinRequest> Gateway::leave_request() {
-  if (state_ != State::joined) return std::nullopt;
-  state_ = State::left;
-  protocol::JoinRequest r;
-  r.client_nonce = options_.nonce;
-  r.name = options_.name;
-  r.leave = true;
-  r.client_id = reply_.client_id;
-  return r;
-}
+std::optional<protocol::JoinRequest> Gateway::leave_request() { return join_.leave_request(); }
 
 void Gateway::on_match_info(const protocol::MatchInfo& info) {
   match_ = std::make_shared<const client_sim::MatchView>(info);
@@ -78,7 +38,7 @@ void Gateway::on_match_info(const protocol::MatchInfo& info) {
 }
 
 bool Gateway::on_snapshot(const protocol::Snapshot& snap, std::size_t wire_bytes, TimePoint now) {
-  if (state_ != State::joined || snap.client_id != reply_.client_id) return false;
+  if (join_.state() != State::joined || snap.client_id != join_.reply().client_id) return false;
   if (!first_snapshot_) first_snapshot_ = now;
   bytes_window_.emplace_back(now, wire_bytes);
   if (world_.apply(snap) != client_sim::ClientWorld::ApplyResult::applied) {
@@ -96,7 +56,8 @@ bool Gateway::on_snapshot(const protocol::Snapshot& snap, std::size_t wire_bytes
 }
 
 bool Gateway::on_contacts(const protocol::ContactPairs& c, std::size_t wire_bytes, TimePoint now) {
-  if (state_ != State::joined || c.client_id != reply_.client_id || protocol::check_contact_pairs(c)) {
+  if (join_.state() != State::joined || c.client_id != join_.reply().client_id ||
+      protocol::check_contact_pairs(c)) {
     ++contacts_rejected_;
     return false;
   }
@@ -110,7 +71,7 @@ bool Gateway::on_contacts(const protocol::ContactPairs& c, std::size_t wire_byte
 
 std::optional<protocol::Command> Gateway::make_command(TimePoint now, const std::optional<PageInput>& input,
                                                        std::optional<TimePoint> input_received) {
-  if (state_ != State::joined) return std::nullopt;
+  if (join_.state() != State::joined) return std::nullopt;
   const auto own = world_.own_pose();
   if (!own) return std::nullopt;
   const bool fresh = input && input_received && now - *input_received <= options_.input_timeout;
@@ -121,8 +82,8 @@ std::optional<protocol::Command> Gateway::make_command(TimePoint now, const std:
     in.facing_rad = static_cast<float>(own->yaw);  // stand still, keep facing where it faces
   }
   protocol::Command c;
-  c.client_id = reply_.client_id;
-  c.entity = reply_.entity;
+  c.client_id = join_.reply().client_id;
+  c.entity = join_.reply().entity;
   c.sequence = next_sequence_++;
   c.last_seen_tick = world_.newest_tick().value_or(0);
   c.move_x = in.move_x;
@@ -198,8 +159,8 @@ std::string Gateway::frame_json(TimePoint now, const FrameExtras& extras) const 
   fmt::memory_buffer b;
   auto out = std::back_inserter(b);
   fmt::format_to(out, R"({{"type":"frame","tick":{},"render_tick":{:.2f},"client_id":{},"entity":{},"faction":{},)",
-                 world_.newest_tick().value_or(0), world_.render_tick(), reply_.client_id, reply_.entity,
-                 static_cast<unsigned>(reply_.faction));
+                 world_.newest_tick().value_or(0), world_.render_tick(), join_.reply().client_id, join_.reply().entity,
+                 static_cast<unsigned>(join_.reply().faction));
   if (const auto self = world_.own_pose()) {
     fmt::format_to(out, R"("self":{{"x":{:.3f},"y":{:.3f},"z":{:.3f},"yaw":{:.3f}}},)", self->x, self->y, self->z,
                    self->yaw);

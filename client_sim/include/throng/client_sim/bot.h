@@ -16,6 +16,7 @@
 #include "throng/client_sim/behavior.h"
 #include "throng/client_sim/bot_metrics.h"
 #include "throng/client_sim/client_world.h"
+#include "throng/client_sim/join_handshake.h"
 #include "throng/client_sim/report.h"
 #include "throng/protocol/messages.h"
 
@@ -31,8 +32,8 @@ struct BotConfig {
 
 class Bot {
  public:
-  enum class State : std::uint8_t { created, joining, joined, refused, timed_out, left };
-  static const char* to_string(State s);
+  using State = JoinHandshake::State;
+  static const char* to_string(State s) { return JoinHandshake::to_string(s); }
 
   // Throws std::invalid_argument for an unknown behavior.
   Bot(BotConfig config, TimePoint launch);
@@ -80,9 +81,7 @@ class Bot {
   BotConfig config_;
   std::unique_ptr<Behavior> behavior_;
   std::mt19937_64 rng_;
-  State state_ = State::created;
-  std::optional<TimePoint> join_sent_, last_join_sent_;
-  protocol::JoinReply reply_;
+  JoinHandshake join_;  // after config_: made from its nonce and name
   std::uint32_t next_sequence_ = 1;
   std::uint32_t last_applied_sequence_ = 0;
   ClientWorld world_;

@@ -29,6 +29,7 @@
 #include <string>
 
 #include "throng/client_sim/client_world.h"
+#include "throng/client_sim/join_handshake.h"
 #include "throng/client_sim/match_view.h"
 #include "throng/protocol/messages.h"
 #include "throng/view/page_input.h"
@@ -54,16 +55,16 @@ struct FrameExtras {
 
 class Gateway {
  public:
-  enum class State : std::uint8_t { created, joining, joined, refused, left };
-  static const char* to_string(State s);
+  using State = client_sim::JoinHandshake::State;
+  static const char* to_string(State s) { return client_sim::JoinHandshake::to_string(s); }
 
   explicit Gateway(GatewayOptions options);
 
-  State state() const { return state_; }
-  std::uint64_t nonce() const { return options_.nonce; }
-  const protocol::JoinReply& reply() const { return reply_; }
-  std::optional<TimePoint> join_sent_at() const { return join_sent_; }
-  std::optional<TimePoint> last_join_sent_at() const { return last_join_sent_; }
+  State state() const { return join_.state(); }
+  std::uint64_t nonce() const { return join_.nonce(); }
+  const protocol::JoinReply& reply() const { return join_.reply(); }
+  std::optional<TimePoint> join_sent_at() const { return join_.join_sent_at(); }
+  std::optional<TimePoint> last_join_sent_at() const { return join_.last_join_sent_at(); }
 
   // Marks the gateway joining; called again it returns the same request (a resend).
   protocol::JoinRequest join_request(TimePoint now);
@@ -105,9 +106,7 @@ class Gateway {
   void expire_windows(TimePoint now) const;
 
   GatewayOptions options_;
-  State state_ = State::created;
-  std::optional<TimePoint> join_sent_, last_join_sent_;
-  protocol::JoinReply reply_;
+  client_sim::JoinHandshake join_;
   std::shared_ptr<const client_sim::MatchView> match_;
   std::string match_json_;
   client_sim::ClientWorld world_;
