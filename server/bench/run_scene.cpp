@@ -94,9 +94,10 @@ RunResult run_scene(const scene::SceneDef& def, const RunOptions& options) {
       over.worst_p99_pen_over_radius = std::max(over.worst_p99_pen_over_radius, now.p99_pen_over_radius);
       if (now.max_pen_over_radius > 0.5) ++over.ticks_over_0_5_r;
       if (trace.is_open())
-        trace << fmt::format("{},{:.1f},{:.6g},{:.6g},{},{:.6g},{},{}\n", tick, s.total_us, now.max_pen_over_radius,
-                             now.p99_pen_over_radius, now.pairs_over_1pct, s.max_pen_over_radius, s.iterations_used,
-                             s.tunnel_clamps);
+        trace << fmt::format("{},{:.1f},{:.6g},{:.6g},{},{:.6g},{},{},{:.1f},{:.1f},{},{}\n", tick, s.total_us,
+                             now.max_pen_over_radius, now.p99_pen_over_radius, now.pairs_over_1pct,
+                             s.max_pen_over_radius, s.iterations_used, s.tunnel_clamps, s.broadphase_us, s.solve_us,
+                             s.pair_list_reused == 0 ? 1 : 0, s.second_search);
     }
     if (t < options.warmup) continue;
     total.push_back(s.total_us);

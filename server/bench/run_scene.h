@@ -37,7 +37,7 @@ struct ResidualOverTime {
 // The CSV columns --trace writes.
 inline constexpr const char* kTraceHeader =
     "tick,tick_us,max_pen_over_radius,p99_pen_over_radius,pairs_over_1pct,solver_max_pen_over_radius,iterations_used,"
-    "tunnel_clamps";
+    "tunnel_clamps,search_us,solve_us,searched,second_search";
 
 struct Percentiles {
   double median = 0.0;

@@ -125,13 +125,22 @@ TEST_F(BenchCli, ResidualOverTimeAndTraceAgree) {
   std::getline(in, line);
   EXPECT_EQ(line.rfind("tick,tick_us,max_pen_over_radius", 0), 0u) << line;
   double worst = -1.0;
-  std::uint64_t worst_tick = 0, lines = 0, last_tick = 0;
+  std::uint64_t worst_tick = 0, lines = 0, last_tick = 0, searched = 0;
   while (std::getline(in, line)) {
     std::stringstream ss(line);
     std::string tick, tick_us, max_pen;
     std::getline(ss, tick, ',');
     std::getline(ss, tick_us, ',');
     std::getline(ss, max_pen, ',');
+    // The rest: pairs, solver pen, iterations, clamps, then search_us, solve_us, searched, second.
+    std::vector<std::string> rest;
+    for (std::string field; std::getline(ss, field, ',');) rest.push_back(field);
+    ASSERT_EQ(rest.size(), 9u) << line;
+    EXPECT_GE(std::stod(rest[5]), 0.0) << line;
+    EXPECT_GT(std::stod(rest[6]), 0.0) << line;
+    EXPECT_TRUE(rest[7] == "0" || rest[7] == "1") << line;
+    EXPECT_TRUE(rest[8] == "0" || rest[8] == "1") << line;
+    searched += rest[7] == "1";
     ++lines;
     last_tick = std::stoull(tick);
     if (std::stod(max_pen) > worst) {
@@ -140,6 +149,7 @@ TEST_F(BenchCli, ResidualOverTimeAndTraceAgree) {
     }
   }
   EXPECT_EQ(lines, 20u);
+  EXPECT_GE(searched, 1u) << "carry 0 moves every body its full step: some tick must search";
   EXPECT_EQ(last_tick, 30u);
   EXPECT_EQ(o["worst_max_tick"], worst_tick);
   EXPECT_NEAR(o["worst_max_pen_over_radius"].get<double>(), worst, 1e-5 * std::max(1.0, worst));
