@@ -204,5 +204,20 @@ TEST(SceneJsonErrors, BadInlinePolicyNamedUnderPolicy) {
   expect_build_error(doc, "params", "/nonexistent/params.json");
 }
 
+// A SceneDef made in code can carry inline text that is not JSON (a file's inline object is always
+// valid text): the build names the field instead of letting the JSON library's exception escape.
+TEST(SceneJsonErrors, InlineTextThatIsNotJsonNamedAtBuild) {
+  SceneDef s = scene_from_json(valid_scene());
+  s.params.file.clear();
+  s.params.inline_json = R"({"archetypes": )";
+  try {
+    (void)build_scene(s);
+    FAIL() << "no error for truncated inline params";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.path(), "params") << e.what();
+    EXPECT_NE(e.message().find("inline document"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace throng::scene

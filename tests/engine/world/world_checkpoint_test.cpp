@@ -21,6 +21,8 @@
 
 namespace throng {
 namespace {
+// World::Impl::config_hash() of WorldSettings{} with no scenery (see ConfigHashOfDefaultSettingsIsPinned).
+constexpr std::uint64_t kPinnedConfigHash = 0xa38201de6be275c4ull;
 
 using Bytes = std::vector<std::uint8_t>;
 
@@ -121,6 +123,26 @@ TEST(WorldCheckpoint, RuntimeChangesAreCarried) {
   BodyDef d;
   d.position = {3.0, 3.0, 0.9};
   EXPECT_EQ(a.world.create_body(d), b.world.create_body(d));
+}
+
+// A checkpoint carries a hash of the world's settings (and scenery) and a restore refuses another
+// one. The hash walks the settings table (settings_fields.h) row by row, so reordering the table,
+// or hashing a field another way, would make every earlier checkpoint and match log unreadable:
+// the value for the default settings is pinned here.
+TEST(WorldCheckpoint, ConfigHashOfDefaultSettingsIsPinned) {
+  World w(WorldSettings{}, scene::load_param_table({}), scene::load_push_policy({}));
+  std::vector<std::uint8_t> saved;
+  w.save_state(saved);
+  ByteReader in(saved);
+  in.get<std::uint32_t>("magic");
+  in.get<std::uint32_t>("version");
+  EXPECT_EQ(in.get<std::uint64_t>("config hash"), kPinnedConfigHash);
+  WorldSettings other;
+  other.blocked_motion_carry = 0.5;
+  World changed(other, scene::load_param_table({}), scene::load_push_policy({}));
+  std::vector<std::uint8_t> changed_saved;
+  changed.save_state(changed_saved);
+  EXPECT_NE(std::memcmp(saved.data() + 8, changed_saved.data() + 8, 8), 0) << "a setting must change the hash";
 }
 
 TEST(WorldCheckpoint, SaveReusesAWarmBuffer) {

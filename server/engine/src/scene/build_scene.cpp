@@ -24,6 +24,8 @@ T load_source(const DocumentSource& src, const char* field, FromJson from_json, 
   } catch (const params::ConfigError& e) {
     if (!src.file.empty()) throw SceneError(field, "in '" + src.file + "': " + e.what());
     throw SceneError(e.path().empty() ? std::string(field) : std::string(field) + "." + e.path(), e.message());
+  } catch (const nlohmann::json::exception& e) {  // inline text that is not JSON
+    throw SceneError(field, std::string("inline document: ") + e.what());
   } catch (const std::invalid_argument& e) {
     throw SceneError(field, e.what());
   } catch (const std::runtime_error& e) {  // unreadable file

@@ -55,6 +55,8 @@ struct FrameExtras {
 
 class Gateway {
  public:
+  // The join protocol's states; the gateway re-sends its join until answered, so it never reaches
+  // timed_out.
   using State = client_sim::JoinHandshake::State;
   static const char* to_string(State s) { return client_sim::JoinHandshake::to_string(s); }
 

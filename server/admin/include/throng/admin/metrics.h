@@ -51,9 +51,10 @@ class MetricsRegistry {
 
   // Text exposition format 0.0.4 (what GET /metrics serves). Safe to call while other threads
   // update or register metrics; each histogram is copied whole under its lock, the whole text is
-  // not a single snapshot.
+  // not a single snapshot. Series sorted by family name, then labels; numbers with 16 significant
+  // digits; NaN spelled "Nan" (prometheus-cpp's TextSerializer).
   std::string render() const;
-  void render_to(std::string& out) const;  // appends; lets a caller reuse its buffer
+  void render_to(std::string& out) const;  // appends the text render() returns
 
   static constexpr std::string_view required_prefix = "throng_";
 

@@ -102,7 +102,8 @@ class ByteWriter {
 };
 
 // Reads what ByteWriter wrote. Every failure throws Error (constructible from a string) naming
-// the subject ("checkpoint", "tick entry"), the field and the offset.
+// the subject ("checkpoint", "tick entry"), the field and the offset. The subject and every `what`
+// are string literals: the reader keeps the subject's pointer.
 template <class Error>
 class BasicByteReader {
  public:

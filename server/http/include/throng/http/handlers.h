@@ -19,7 +19,8 @@ struct HttpHandlers {
   // The answer to one parsed request. nullopt hands the connection over: the socket and the
   // request go to `upgrade` (a WebSocket handshake), or the connection closes when there is none.
   std::function<std::optional<Response>(const Request&)> route;
-  // Takes over a connection `route` did not answer; the socket runs on the listener's io_context.
+  // Takes over a connection `route` did not answer; the socket runs on the listener's io_context,
+  // so whatever owns it must not outlive HttpListener::stop() (which destroys that context).
   std::function<void(boost::asio::ip::tcp::socket, Request)> upgrade;
   // The answer to a request the parser refused: 400 (not HTTP), 413 (body), 431 (header). The
   // listener closes the connection after it, whatever keep-alive it asks for. Each user builds it
