@@ -1,7 +1,7 @@
 // Operator parameter changes (the patent's S15/S17 "parameters changed during play").
 //
 // Two forms:
-//  - policy_json non-empty: the whole push policy is replaced (PushPolicy::parse; entity must be 0
+//  - policy_json non-empty: the whole push policy is replaced (parse_push_policy; entity must be 0
 //    and param empty). A parse or validation error is replied with the parser's message.
 //  - otherwise: parameter `param` (a name of params::Param, or the alias "weight") of object
 //    `entity` (a movable body or a fixed scenery object) is set to `value` through the engine's
@@ -20,6 +20,7 @@
 #include "match_impl.h"
 #include "match_info.h"
 #include "throng/params/object_params.h"
+#include "throng/params/params_json.h"
 #include "throng/params/push_policy.h"
 #include "throng/world/world.h"
 
@@ -55,7 +56,7 @@ protocol::ParamReply Match::Impl::apply_param_update(const protocol::ParamUpdate
       return fail("policy_json replaces the whole push policy: entity must be 0 and param empty");
     }
     try {
-      const params::PushPolicy policy = params::PushPolicy::parse(u.policy_json, "policy_json");
+      const params::PushPolicy policy = params::parse_push_policy(u.policy_json, "policy_json");
       w.set_policy(policy);
       info.push_policy_hash = policy_hash(policy);
     } catch (const std::exception& e) {

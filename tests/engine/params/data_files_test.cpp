@@ -5,6 +5,7 @@
 
 #include "params_test_util.h"
 #include "throng/params/param_table.h"
+#include "throng/params/params_json.h"
 #include "throng/params/push_policy.h"
 
 #ifndef THRONG_SOURCE_DIR
@@ -24,7 +25,7 @@ const PairRule& rule_named(const PushPolicy& p, const std::string& name) {
 }
 
 TEST(ParamsDataFiles, DefaultParamsLoad) {
-  const ParamTable t = ParamTable::load_file(data_path("default_params.json"));
+  const ParamTable t = load_param_table(data_path("default_params.json"));
   for (const char* name : {"infantry", "cavalry", "giant", "player", "wall", "bush"}) {
     EXPECT_NE(t.find_archetype(name), nullptr) << name;
   }
@@ -40,9 +41,9 @@ TEST(ParamsDataFiles, DefaultParamsLoad) {
 }
 
 TEST(ParamsDataFiles, PoliciesLoadAndApplyThePatentRule) {
-  const ParamTable t = ParamTable::load_file(data_path("default_params.json"));
+  const ParamTable t = load_param_table(data_path("default_params.json"));
   for (const char* file : {"default_policy.json", "patent_examples_policy.json"}) {
-    const PushPolicy p = PushPolicy::load_file(data_path(file));
+    const PushPolicy p = load_push_policy(data_path(file));
     EXPECT_EQ(p.mode(), PushMode::ratio) << file;
     const ObjectParams pc = t.resolve("player", 1);
     const ObjectParams foot = t.resolve("infantry", 30);

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "params_test_util.h"
+#include "throng/params/params_json.h"
 
 namespace throng::params {
 namespace {
@@ -31,7 +32,7 @@ json layered_doc() {
 }
 
 TEST(ParamsTable, LayersApplyInOrder) {
-  const ParamTable t = ParamTable::from_json(layered_doc());
+  const ParamTable t = param_table_from_json(layered_doc());
   EXPECT_EQ(t.defaults().importance, 2.0);
   EXPECT_EQ(t.defaults().weight_kg, weight_class_kg(WeightClass::light));
 
@@ -139,7 +140,7 @@ TEST(ParamsTable, JsonErrorsNameTheField) {
     cases.push_back({"future version", d, "version", "unsupported version"});
   }
   for (const BadDoc& c : cases) {
-    const ConfigError e = config_error_of([&] { (void)ParamTable::from_json(c.doc); });
+    const ConfigError e = config_error_of([&] { (void)param_table_from_json(c.doc); });
     EXPECT_EQ(e.path(), c.path) << c.what << ": " << e.what();
     EXPECT_NE(e.message().find(c.message_part), std::string::npos) << c.what << ": " << e.what();
     EXPECT_EQ(std::string(e.what()).rfind(c.path + ": ", 0), 0u) << e.what();
@@ -149,22 +150,22 @@ TEST(ParamsTable, JsonErrorsNameTheField) {
 TEST(ParamsTable, TheBriefsExampleMessage) {
   json d = layered_doc();
   d["archetypes"]["cavalry"]["weight"] = "hevy";
-  const ConfigError e = config_error_of([&] { (void)ParamTable::from_json(d); });
+  const ConfigError e = config_error_of([&] { (void)param_table_from_json(d); });
   EXPECT_EQ(std::string(e.what()).rfind("archetypes.cavalry.weight: unknown category 'hevy'", 0), 0u) << e.what();
 }
 
 TEST(ParamsTable, MalformedJsonNamesTheSource) {
-  const ConfigError e = config_error_of([] { (void)ParamTable::parse("{ \"defaults\": ", "bad_params.json"); });
+  const ConfigError e = config_error_of([] { (void)parse_param_table("{ \"defaults\": ", "bad_params.json"); });
   EXPECT_EQ(e.path(), "");
   EXPECT_NE(e.message().find("bad_params.json"), std::string::npos) << e.what();
   EXPECT_NE(e.message().find("malformed JSON"), std::string::npos) << e.what();
-  EXPECT_THROW((void)ParamTable::load_file("/nonexistent/params.json"), ConfigError);
+  EXPECT_THROW((void)load_param_table("/nonexistent/params.json"), ConfigError);
 }
 
 // nlohmann reports a number too large for any JSON number type as out_of_range, not parse_error:
 // it must still be the documented ConfigError (tests/fuzz params_json found a bare exception).
 TEST(ParamsTable, OverflowingNumberIsMalformedJson) {
-  const ConfigError e = config_error_of([] { (void)ParamTable::parse(R"({"version": 429E967295})", "big.json"); });
+  const ConfigError e = config_error_of([] { (void)parse_param_table(R"({"version": 429E967295})", "big.json"); });
   EXPECT_EQ(e.path(), "");
   EXPECT_NE(e.message().find("big.json: malformed JSON"), std::string::npos) << e.what();
   EXPECT_NE(e.message().find("number overflow"), std::string::npos) << e.what();

@@ -6,6 +6,7 @@
 
 #include "params_test_util.h"
 #include "throng/params/push_policy.h"
+#include "throng/params/params_json.h"
 
 namespace throng::params {
 namespace {
@@ -33,7 +34,7 @@ json policy_doc() {
 }
 
 TEST(ParamsPolicyJson, ReadsEveryField) {
-  const PushPolicy p = PushPolicy::from_json(policy_doc());
+  const PushPolicy p = push_policy_from_json(policy_doc());
   EXPECT_EQ(p.mode(), PushMode::ratio);
   EXPECT_EQ(p.home_faction(), 2u);
   ASSERT_EQ(p.terms().size(), 3u);
@@ -95,22 +96,22 @@ TEST(ParamsPolicyJson, ErrorsNameTheField) {
   cases.push_back({"duplicate rule", with([](json& d) { d["pair_rules"][1]["name"] = "player_vs_heavy_npc"; }),
                    "pair_rules[1].name", "duplicate"});
   for (const Case& c : cases) {
-    const ConfigError e = config_error_of([&] { (void)PushPolicy::from_json(c.doc); });
+    const ConfigError e = config_error_of([&] { (void)push_policy_from_json(c.doc); });
     EXPECT_EQ(e.path(), c.path) << c.what << ": " << e.what();
     EXPECT_NE(e.message().find(c.part), std::string::npos) << c.what << ": " << e.what();
   }
 }
 
 TEST(ParamsPolicyJson, MalformedJson) {
-  const ConfigError e = config_error_of([] { (void)PushPolicy::parse("{\"mode\": \"ratio\",, }", "policy.json"); });
+  const ConfigError e = config_error_of([] { (void)parse_push_policy("{\"mode\": \"ratio\",, }", "policy.json"); });
   EXPECT_EQ(e.path(), "");
   EXPECT_NE(e.message().find("policy.json: malformed JSON"), std::string::npos) << e.what();
 }
 
 // A number beyond double's range (nlohmann: out_of_range, not parse_error) is malformed JSON too:
-// the server's operator channel hands PushPolicy::parse whatever a peer sent (found by fuzzing).
+// the server's operator channel hands parse_push_policy whatever a peer sent (found by fuzzing).
 TEST(ParamsPolicyJson, OverflowingNumberIsMalformedJson) {
-  const ConfigError e = config_error_of([] { (void)PushPolicy::parse(R"({"mode": "ratio", "x": -1e999})", "policy_json"); });
+  const ConfigError e = config_error_of([] { (void)parse_push_policy(R"({"mode": "ratio", "x": -1e999})", "policy_json"); });
   EXPECT_EQ(e.path(), "");
   EXPECT_NE(e.message().find("policy_json: malformed JSON"), std::string::npos) << e.what();
 }

@@ -11,7 +11,6 @@
 #include <cstdint>
 #include <functional>
 #include <map>
-#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -38,11 +37,7 @@ class ParamTable {
   static constexpr std::uint32_t kAllCollisions = 0xFFFFFFFFu;
 
   ParamTable() = default;
-
-  // Throw ConfigError naming the JSON path of the bad field.
-  static ParamTable from_json(const nlohmann::json& doc);
-  static ParamTable parse(std::string_view json_text, std::string_view source_name = "<string>");
-  static ParamTable load_file(const std::string& file_path);
+  // Reading one from its JSON file format: throng/params/params_json.h (target throng::scene).
 
   const ObjectParams& defaults() const { return defaults_; }
   void set_defaults(const ObjectParams& p);  // validates

@@ -25,7 +25,6 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -124,10 +123,7 @@ class PushPolicy {
   // ("terms[2].scale", "pair_rules[0].share_b", "home_faction").
   PushPolicy(PushMode mode, std::vector<Term> terms, std::vector<PairRule> rules,
              std::uint32_t home_faction = kDefaultHomeFaction);
-
-  static PushPolicy from_json(const nlohmann::json& doc);
-  static PushPolicy parse(std::string_view json_text, std::string_view source_name = "<string>");
-  static PushPolicy load_file(const std::string& file_path);
+  // Reading one from its JSON file format: throng/params/params_json.h (target throng::scene).
 
   PushMode mode() const { return mode_; }
   const std::vector<Term>& terms() const { return terms_; }

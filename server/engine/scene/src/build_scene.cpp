@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "throng/params/config_error.h"
+#include "throng/params/params_json.h"
 #include "throng/scene/builtin_params.h"
 #include "throng/scene/scene_error.h"
 #include "throng/scene/spawn.h"
@@ -110,14 +111,14 @@ void add_spawn_group(BuiltScene& b, const params::ParamTable& table, const Scene
 
 params::ParamTable load_param_table(const DocumentSource& source) {
   return load_source<params::ParamTable>(
-      source, "params", [](const nlohmann::json& j) { return params::ParamTable::from_json(j); },
-      [](const std::string& f) { return params::ParamTable::load_file(f); }, [] { return builtin_param_table(); });
+      source, "params", [](const nlohmann::json& j) { return params::param_table_from_json(j); },
+      [](const std::string& f) { return params::load_param_table(f); }, [] { return builtin_param_table(); });
 }
 
 params::PushPolicy load_push_policy(const DocumentSource& source) {
   return load_source<params::PushPolicy>(
-      source, "policy", [](const nlohmann::json& j) { return params::PushPolicy::from_json(j); },
-      [](const std::string& f) { return params::PushPolicy::load_file(f); }, [] { return builtin_push_policy(); });
+      source, "policy", [](const nlohmann::json& j) { return params::push_policy_from_json(j); },
+      [](const std::string& f) { return params::load_push_policy(f); }, [] { return builtin_push_policy(); });
 }
 
 BuiltScene build_scene(const SceneDef& scene) {

@@ -7,6 +7,7 @@
 #include "json_util.h"
 #include "throng/params/config_error.h"
 #include "throng/params/param_table.h"
+#include "throng/params/params_json.h"
 
 namespace throng::params {
 namespace {
@@ -163,18 +164,20 @@ void read_objects(const json& j, ParamTable& table) {
 
 }  // namespace
 
-ParamTable ParamTable::from_json(const nlohmann::json& doc) {
+ParamTable param_table_from_json(const nlohmann::json& doc) {
   detail::expect_object(doc, "");
   detail::check_known_keys(doc, "", {"version", "defaults", "archetypes", "groups", "morale", "objects"});
   detail::check_version(doc, kParamFileVersion);
   ParamTable table;
   // Groups first so parameter rows can be checked for references to unknown groups.
-  if (doc.contains("morale")) table.groups_.set_morale_config(read_morale(doc.at("morale")));
-  if (doc.contains("groups")) read_groups(doc.at("groups"), table.groups_);
+  if (doc.contains("morale")) table.groups().set_morale_config(read_morale(doc.at("morale")));
+  if (doc.contains("groups")) read_groups(doc.at("groups"), table.groups());
   if (doc.contains("defaults")) {
     const ParamPatch patch = read_fields(doc.at("defaults"), "defaults");
-    check_group_refs(patch, table.groups_, "defaults");
-    patch.apply(table.defaults_);
+    check_group_refs(patch, table.groups(), "defaults");
+    ObjectParams defaults = table.defaults();
+    patch.apply(defaults);
+    table.set_defaults(defaults);
   }
   if (doc.contains("archetypes")) {
     const json& arch = detail::expect_object(doc.at("archetypes"), "archetypes");
@@ -183,22 +186,22 @@ ParamTable ParamTable::from_json(const nlohmann::json& doc) {
       const std::string path = detail::key_path("archetypes", item.key());
       if (item.key().empty()) detail::fail(path, "archetype name must not be empty");
       const ParamPatch patch = read_fields(item.value(), path);
-      check_group_refs(patch, table.groups_, path);
-      ObjectParams p = table.defaults_;
+      check_group_refs(patch, table.groups(), path);
+      ObjectParams p = table.defaults();
       patch.apply(p);
-      table.archetypes_.insert_or_assign(item.key(), p);
+      table.set_archetype(item.key(), p);
     }
   }
   if (doc.contains("objects")) read_objects(doc.at("objects"), table);
   return table;
 }
 
-ParamTable ParamTable::parse(std::string_view json_text, std::string_view source_name) {
-  return from_json(detail::parse_json_text(json_text, source_name));
+ParamTable parse_param_table(std::string_view json_text, std::string_view source_name) {
+  return param_table_from_json(detail::parse_json_text(json_text, source_name));
 }
 
-ParamTable ParamTable::load_file(const std::string& file_path) {
-  return from_json(detail::read_json_file(file_path));
+ParamTable load_param_table(const std::string& file_path) {
+  return param_table_from_json(detail::read_json_file(file_path));
 }
 
 }  // namespace throng::params

@@ -4,7 +4,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "text_util.h"
+#include "params/text_util.h"
 #include "throng/params/config_error.h"
 
 namespace throng::params::detail {

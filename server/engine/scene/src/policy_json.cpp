@@ -4,6 +4,7 @@
 #include <string>
 
 #include "json_util.h"
+#include "throng/params/params_json.h"
 #include "throng/params/push_policy.h"
 
 namespace throng::params {
@@ -112,7 +113,7 @@ Term read_term(const json& j, const std::string& path) {
 
 }  // namespace
 
-PushPolicy PushPolicy::from_json(const nlohmann::json& doc) {
+PushPolicy push_policy_from_json(const nlohmann::json& doc) {
   detail::expect_object(doc, "");
   detail::check_known_keys(doc, "", {"version", "mode", "home_faction", "terms", "pair_rules"});
   detail::check_version(doc, kPolicyVersion);
@@ -139,12 +140,12 @@ PushPolicy PushPolicy::from_json(const nlohmann::json& doc) {
   return PushPolicy(*mode, std::move(terms), std::move(rules), home);
 }
 
-PushPolicy PushPolicy::parse(std::string_view json_text, std::string_view source_name) {
-  return from_json(detail::parse_json_text(json_text, source_name));
+PushPolicy parse_push_policy(std::string_view json_text, std::string_view source_name) {
+  return push_policy_from_json(detail::parse_json_text(json_text, source_name));
 }
 
-PushPolicy PushPolicy::load_file(const std::string& file_path) {
-  return from_json(detail::read_json_file(file_path));
+PushPolicy load_push_policy(const std::string& file_path) {
+  return push_policy_from_json(detail::read_json_file(file_path));
 }
 
 }  // namespace throng::params
