@@ -2,8 +2,8 @@
 # The solve on one and two threads (WorldSettings::threads): tick time and the state hash, which
 # must not depend on the thread count. Runs alternate between 1 and 2 threads, REPS times each, and
 # report the median of the runs' tick medians (this machine's speed drifts within minutes, and the
-# second core is shared with whatever else the host runs). Prints a Markdown table for
-# docs/benchmarks.md and exits 1 if any scene's hash differs between thread counts; with
+# second core is shared with whatever else the host runs). Prints a Markdown table and
+# exits 1 if any scene's hash differs between thread counts; with
 # JSON_OUT=FILE also writes the rows as JSON (deploy/make-benchmarks-doc.sh renders them).
 #   deploy/measure-threads.sh [REPS=3] (BIN=build/release/bin/throng-bench, TICKS=200)
 set -euo pipefail

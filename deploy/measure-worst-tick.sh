@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The worst tick of the crush family (issue: bounded overlap in every tick): every scene at K = 8,
 # blocked_motion_carry default and 0, measured every tick from tick 61 by the independent metric.
-# Prints a Markdown table for docs/benchmarks.md; with JSON_OUT=FILE also writes every run's
+# Prints a Markdown table; with JSON_OUT=FILE also writes every run's
 # residual_over_time and tick times as JSON (deploy/make-benchmarks-doc.sh renders them).
 #   deploy/measure-worst-tick.sh [N...=5000 20000] (BIN=build/release/bin/throng-bench)
 set -euo pipefail

@@ -77,7 +77,7 @@ TEST(Writer, SlowDiskNeverBlocksAppendAndReportsTheBacklog) {
               static_cast<unsigned long long>(s.spilled_ticks));
 }
 
-// Reports append times at 30 Hz with 50 commands a tick (the figure in docs/benchmarks.md); asserts only
+// Reports append times at 30 Hz with 50 commands a tick (the figure in docs/design/match-log.md); asserts only
 // that every tick was written and compressed.
 TEST(Writer, AppendP99AtThirtyHzWithFiftyCommands) {
   const auto path = test::test_dir() / "p99.tlog";
