@@ -125,6 +125,108 @@ TEST(WorldCheckpoint, RuntimeChangesAreCarried) {
   EXPECT_EQ(a.world.create_body(d), b.world.create_body(d));
 }
 
+// Where a world state section's slot table and body columns are (world/CHECKPOINT.md): the header
+// is 40 bytes, then the slots (generations, kinds, dense references), the free list, the fixed
+// objects' parameters (120 bytes each), 17 bytes of reach, then the body columns.
+struct WorldLayout {
+  std::uint32_t n = 0, ns = 0, nf = 0;
+  std::size_t slots = 40, kinds = 0, refs = 0, columns = 0;
+};
+WorldLayout world_layout(const Bytes& b) {
+  WorldLayout l;
+  std::memcpy(&l.n, b.data() + 28, 4);
+  std::memcpy(&l.ns, b.data() + 32, 4);
+  std::memcpy(&l.nf, b.data() + 36, 4);
+  l.kinds = l.slots + 4 * std::size_t{l.ns};
+  l.refs = l.kinds + l.ns;
+  std::uint32_t free_count = 0;
+  std::memcpy(&free_count, b.data() + l.refs + 4 * std::size_t{l.ns}, 4);
+  l.columns = l.refs + 4 * std::size_t{l.ns} + 4 + 4 * std::size_t{free_count} + 120 * std::size_t{l.nf} + 17;
+  return l;
+}
+
+// Version 2 (logs of earlier builds) held every body's id as a column after `grounded`; version 3
+// names the bodies by the slot table only. A version 2 section of the same world restores to the
+// same state, with destroyed and re-created bodies (generations) among them.
+TEST(WorldCheckpoint, VersionTwoWithItsIdColumnStillRestores) {
+  const scene::SceneDef def = small("mixed");
+  scene::BuiltScene a = scene::build_scene(def);
+  run(a, 10);
+  a.world.destroy_body(a.body_ids[3]);
+  a.world.destroy_body(a.body_ids[7]);
+  BodyDef nd;
+  nd.position = {0.5, 0.5, 0.9};
+  a.world.create_body(nd);  // slot 7 again, next generation
+  for (int t = 0; t < 7; ++t) {
+    steer_in(a.world);
+    a.world.step();
+  }
+  Bytes v3;
+  a.world.save_state(v3);
+  const WorldLayout l = world_layout(v3);
+  std::uint32_t version = 0;
+  std::memcpy(&version, v3.data() + 4, 4);
+  ASSERT_EQ(version, 3u);
+  // 13 f64 columns (x .. hh) and grounded, each with its u32 count; the ids follow grounded.
+  const std::size_t ids_at = l.columns + 13 * (4 + 8 * std::size_t{l.n}) + 4 + l.n;
+  Bytes v2(v3.begin(), v3.begin() + static_cast<std::ptrdiff_t>(ids_at));
+  v2[4] = 2;
+  const auto put_u32 = [&v2](std::uint32_t v) {
+    const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
+    v2.insert(v2.end(), p, p + 4);
+  };
+  put_u32(l.n);
+  for (std::size_t d = 0; d < l.n; ++d) put_u32(a.world.id_at(d).value);
+  v2.insert(v2.end(), v3.begin() + static_cast<std::ptrdiff_t>(ids_at), v3.end());
+
+  scene::BuiltScene b = scene::build_scene(def);
+  b.world.restore_state(v2);
+  Bytes again;
+  b.world.save_state(again);
+  EXPECT_EQ(again, v3);
+  EXPECT_EQ(b.world.state_hash(), a.world.state_hash());
+  for (std::size_t d = 0; d < l.n; ++d) ASSERT_EQ(b.world.id_at(d), a.world.id_at(d)) << d;
+  EXPECT_FALSE(b.world.is_body(a.body_ids[7]));
+  for (int t = 0; t < 20; ++t) {
+    steer_in(a.world);
+    steer_in(b.world);
+    a.world.step();
+    b.world.step();
+    ASSERT_EQ(a.world.state_hash(), b.world.state_hash()) << "tick " << a.world.tick();
+  }
+
+  // Version 3's slots must name every body exactly once: two slots referring to one dense index
+  // leave another unnamed.
+  std::vector<std::uint32_t> body_slots;
+  for (std::uint32_t sl = 0; sl < l.ns && body_slots.size() < 2; ++sl) {
+    if (v3[l.kinds + sl] == 1) body_slots.push_back(sl);
+  }
+  ASSERT_EQ(body_slots.size(), 2u);
+  Bytes bad = v3;
+  std::memcpy(bad.data() + l.refs + 4 * body_slots[1], v3.data() + l.refs + 4 * body_slots[0], 4);
+  scene::BuiltScene c = scene::build_scene(def);
+  try {
+    c.world.restore_state(bad);
+    ADD_FAILURE() << "two slots naming one body were accepted";
+  } catch (const CheckpointError& e) {
+    EXPECT_NE(std::string(e.what()).find("does not match its slot"), std::string::npos) << e.what();
+  }
+  // A free slot made a body slot: one body slot more than bodies.
+  bad = v3;
+  std::uint32_t free_slot = l.ns;
+  for (std::uint32_t sl = 0; sl < l.ns; ++sl) {
+    if (v3[l.kinds + sl] == 0) free_slot = sl;
+  }
+  ASSERT_LT(free_slot, l.ns);
+  bad[l.kinds + free_slot] = 1;
+  try {
+    c.world.restore_state(bad);
+    ADD_FAILURE() << "a body slot too many was accepted";
+  } catch (const CheckpointError& e) {
+    EXPECT_NE(std::string(e.what()).find("body slots for"), std::string::npos) << e.what();
+  }
+}
+
 // A checkpoint carries a hash of the world's settings (and scenery) and a restore refuses another
 // one. The hash walks the settings table (settings_fields.h) row by row, so reordering the table,
 // or hashing a field another way, would make every earlier checkpoint and match log unreadable:

@@ -22,6 +22,7 @@
 #include <exception>
 #include <limits>
 #include <string>
+#include <type_traits>
 
 #include "throng/world/world.h"
 #include "world/param_codec.h"
@@ -94,7 +95,10 @@ void World::Impl::save_state(ByteWriter& w) const {
   w.put(static_cast<std::uint8_t>(scenery_dirty ? 1 : 0));
   w.put(max_body_reach_m);
   w.put(scenery_reach_m);
-  bodies.for_each_column([&](const auto& col) { w.put_array(col); });
+  // Every column but the ids: the slots above say which slot refers to which dense index.
+  bodies.for_each_column([&](const auto& col) {
+    if constexpr (!std::is_same_v<std::decay_t<decltype(col)>, std::vector<ObjectId>>) w.put_array(col);
+  });
   // Warm-start entries: only the first warm_count of each body's kWarmSlots are ever read.
   std::uint32_t warm_total = 0;
   for (std::size_t i = 0; i < n; ++i) warm_total += bodies.warm_count[i];
@@ -161,9 +165,9 @@ WorldState decode_world_state(ByteReader& r) {
   const auto magic = r.get<std::uint32_t>("world magic");
   if (magic != kWorldStateMagic) r.fail("not a world state section (magic " + hex(magic) + ")");
   const auto version = r.get<std::uint32_t>("world version");
-  if (version != kWorldStateVersion) {
-    r.fail("world state version " + std::to_string(version) + " (this build reads " +
-           std::to_string(kWorldStateVersion) + ")");
+  if (version < kOldestWorldStateVersion || version > kWorldStateVersion) {
+    r.fail("world state version " + std::to_string(version) + " (this build reads " + std::to_string(kOldestWorldStateVersion) +
+           " to " + std::to_string(kWorldStateVersion) + ")");
   }
   st.config_hash = r.get<std::uint64_t>("world config hash");
   st.tick = r.get<std::uint64_t>("world tick");
@@ -192,7 +196,24 @@ WorldState decode_world_state(ByteReader& r) {
     r.fail("body reach " + std::to_string(st.max_body_reach_m) + " / scenery reach " + std::to_string(st.scenery_reach_m) +
            " out of range");
   }
-  st.bodies.for_each_column([&](auto& col) { r.get_array_exact(col, "body column", n); });
+  st.bodies.for_each_column([&](auto& col) {
+    if constexpr (std::is_same_v<std::decay_t<decltype(col)>, std::vector<ObjectId>>) {
+      if (version >= 3) return;  // named by the slots, below
+    }
+    r.get_array_exact(col, "body column", n);
+  });
+  if (version >= 3) {
+    // Each body slot names its dense index; every index must be named exactly once (checked with the
+    // slots below: an index no slot names keeps the invalid id 0).
+    st.bodies.id.assign(n, ObjectId{});
+    std::uint32_t body_slots = 0;
+    for (std::uint32_t s = 0; s < ns; ++s) {
+      if (st.slot_kind[s] != 1) continue;
+      ++body_slots;
+      if (st.slot_ref[s] < n) st.bodies.id[st.slot_ref[s]] = ObjectId::make(s, st.slot_generation[s]);
+    }
+    if (body_slots != n) r.fail(std::to_string(body_slots) + " body slots for " + std::to_string(n) + " bodies");
+  }
   st.bodies.warm.assign(std::size_t{n} * kWarmSlots, WarmEntry{0, 0.0f});
   std::uint32_t warm_total = 0;
   for (std::uint32_t i = 0; i < n; ++i) {

@@ -16,7 +16,10 @@
 namespace throng::detail {
 
 inline constexpr std::uint32_t kWorldStateMagic = 0x53574854;  // "THWS" in the file
-inline constexpr std::uint32_t kWorldStateVersion = 2;  // 2: the kept pair list
+// 3: no body id column (the slots' dense references name every body); 2: the kept pair list.
+// This build reads 2 and 3.
+inline constexpr std::uint32_t kWorldStateVersion = 3;
+inline constexpr std::uint32_t kOldestWorldStateVersion = 2;
 
 // Bounds of the pair list's cooldown (World::Impl::PairList), checked when a checkpoint is read.
 inline constexpr std::uint32_t kPairListCooldownTicks = 8;
