@@ -293,7 +293,8 @@ TEST(MatchCheckpoint, VersionOneStillRestoresIntoTheSameConfig) {
   Driver d;
   for (int t = 0; t < 130; ++t) step(a, d, out);
   Bytes v2;
-  a.save_checkpoint(v2);
+  a.save_checkpoint(v2, SaveOptions{.format_version = 3});
+  EXPECT_EQ(checkpoint_sections(v2).version, 3u);
   const Bytes v1 = ::throng::test::as_version_1(v2, config);
   EXPECT_EQ(checkpoint_sections(v1).version, 1u);
   EXPECT_TRUE(same(checkpoint_sections(v1).world, checkpoint_sections(v2).world));
@@ -302,7 +303,7 @@ TEST(MatchCheckpoint, VersionOneStillRestoresIntoTheSameConfig) {
   Match b(small_battle(), config, "b");
   b.restore_checkpoint(v1);
   Bytes again;
-  b.save_checkpoint(again);
+  b.save_checkpoint(again, SaveOptions{.format_version = 3});
   EXPECT_EQ(again, v2);  // everything came back, snapshot baselines included
   Driver db = d;
   Outbox ob;
@@ -383,8 +384,8 @@ TEST_F(MatchCheckpointErrors, WrongMagicVersionAndTrailingBytes) {
   bad[1] ^= 0x40;
   expect_error(target, bad, "magic");
   bad = saved;
-  bad[4] = 4;
-  expect_error(target, bad, "version 4, this build reads versions 1 to 3");
+  bad[4] = 5;
+  expect_error(target, bad, "version 5, this build reads versions 1 to 4");
   bad = saved;
   bad[4] = 0;
   expect_error(target, bad, "version 0");
@@ -419,9 +420,79 @@ TEST_F(MatchCheckpointErrors, CorruptedBytesFailCleanly) {
 
 // Found by fuzzing (tests/fuzz match_checkpoint): an NPC AI section naming a body the world
 // section does not hold was accepted, and the next tick threw from World::set_desired_velocity.
+// Version 4 writes the NPC AI compact (server/match/src/npc_ai.h): no ids, and a formation slot
+// still at its spawn value as a flag. The entity that changed faction at tick 45 was regrouped and
+// keeps a slot of its own. Version 3 of the same state holds the same match: restored, either saves
+// the same version 4 bytes and ticks on with the same hashes.
+TEST(MatchCheckpoint, CompactAiHoldsTheSameStateAsTheAiWithIds) {
+  const MatchConfig config = test::small_config();
+  Match a(small_battle(), config, "a");
+  Outbox out;
+  Driver d;
+  for (int t = 0; t < 130; ++t) step(a, d, out);
+  Bytes v4, v3;
+  a.save_checkpoint(v4);
+  a.save_checkpoint(v3, SaveOptions{.format_version = 3});
+  EXPECT_EQ(checkpoint_sections(v4).version, 4u);
+  EXPECT_EQ(checkpoint_sections(v3).version, 3u);
+  const std::size_t n = a.world().body_count();
+  // v3 holds per body an id (4 bytes) and two slot doubles; v4 a flag byte per body, two counts
+  // and the doubles of regrouped bodies only (at least one: the faction change at tick 45).
+  const std::size_t saved_bytes = checkpoint_sections(v3).match_state.size() - checkpoint_sections(v4).match_state.size();
+  EXPECT_GT(saved_bytes, (4 + 16 - 1) * n - 16 * 8);
+  EXPECT_LT(saved_bytes, (4 + 16 - 1) * n);
+  EXPECT_TRUE(same(checkpoint_sections(v4).world, checkpoint_sections(v3).world));
+  EXPECT_THROW(a.save_checkpoint(v3, SaveOptions{.format_version = 2}), std::invalid_argument);
+  a.save_checkpoint(v3, SaveOptions{.format_version = 3});
+
+  Match b(small_battle(), config, "b"), c(small_battle(), config, "c");
+  b.restore_checkpoint(v4);
+  c.restore_checkpoint(v3);
+  Bytes b4, c4;
+  b.save_checkpoint(b4);
+  c.save_checkpoint(c4);
+  EXPECT_EQ(b4, v4);
+  EXPECT_EQ(c4, v4);
+  Driver db = d, dc = d;
+  for (int t = 0; t < 60; ++t) {
+    const std::uint64_t ha = step(a, d, out).state_hash;
+    EXPECT_EQ(step(b, db, out).state_hash, ha) << t;
+    EXPECT_EQ(step(c, dc, out).state_hash, ha) << t;
+  }
+}
+
+// Where the compact AI's slot flags are in `bytes` (a version 4 checkpoint of a match whose n
+// bodies all keep their spawn slots): the u32 n, n flags of 1, then two counts of 0.
+std::size_t compact_flags_offset(const Bytes& bytes, std::size_t n) {
+  std::vector<std::uint8_t> pattern(4 + n + 8, 0);
+  const auto n32 = static_cast<std::uint32_t>(n);
+  std::memcpy(pattern.data(), &n32, 4);
+  std::fill(pattern.begin() + 4, pattern.begin() + 4 + static_cast<std::ptrdiff_t>(n), std::uint8_t{1});
+  const CheckpointSections sec = checkpoint_sections(bytes);
+  const auto at = std::search(sec.match_state.begin(), sec.match_state.end(), pattern.begin(), pattern.end());
+  if (at == sec.match_state.end()) return 0;
+  return static_cast<std::size_t>(&*at - bytes.data()) + 4;
+}
+
+TEST_F(MatchCheckpointErrors, CompactAiSlotFlagsAreChecked) {
+  const std::size_t n = source.world().body_count();
+  const std::size_t at = compact_flags_offset(saved, n);
+  ASSERT_NE(at, 0u) << "the AI's slot flags were not found";
+  Bytes bad = saved;
+  bad[at + 3] = 2;
+  expect_error(target, bad, "ai slot flag 2");
+  bad = saved;
+  bad[at + 3] = 0;  // a regrouped body, but no slot follows for it
+  expect_error(target, bad, "ai slot x");
+  target.restore_checkpoint(saved);
+  Outbox out;
+  target.tick(out);
+}
+
 TEST_F(MatchCheckpointErrors, AiDrivingAnotherBodyIsRefused) {
-  // The AI's ids: a u32 count then every body's id (here in the world's dense order), in the match
-  // section (the world section holds the same list: search only the match section).
+  // Version 3 (the AI with its ids): a u32 count then every body's id (here in the world's dense
+  // order), in the match section (the world section holds the same list: search only there).
+  source.save_checkpoint(saved, SaveOptions{.format_version = 3});
   const World& w = source.world();
   std::vector<std::uint8_t> pattern(4 + 4 * w.body_count());
   const auto n = static_cast<std::uint32_t>(w.body_count());

@@ -1,5 +1,5 @@
 #pragma once
-// A version 1 match checkpoint made from a version 3 one, as earlier builds wrote them (logs of
+// A version 1 match checkpoint made from a version 3 one (as_version_3 makes one), as earlier builds wrote them (logs of
 // those builds hold such keyframes): server/match/src/CHECKPOINT.md, "Version 1". Shared by the
 // match checkpoint tests and the matchlog keyframe tests.
 #include <cstdint>
@@ -10,8 +10,21 @@
 #include "throng/core/byte_io.h"
 #include "throng/match/match.h"
 #include "throng/match/match_config.h"
+#include "throng/scene/scene_def.h"
 
 namespace throng::test {
+
+// The same state as the previous build saved it (version 3: the NPC AI with its ids), by restoring
+// `newest` into a match of its scene and config and saving it again.
+inline std::vector<std::uint8_t> as_version_3(const std::vector<std::uint8_t>& newest, const scene::SceneDef& scene,
+                                              const match::MatchConfig& config) {
+  match::Match m(scene, config, "v3");
+  m.restore_checkpoint(newest);
+  std::vector<std::uint8_t> v3;
+  m.save_checkpoint(v3, match::SaveOptions{.snapshot_baselines = !match::checkpoint_sections(newest).snapshot_baselines.empty(),
+                                           .format_version = 3});
+  return v3;
+}
 
 // The match section of a version 3 checkpoint as version 2 wrote it (CHECKPOINT.md, "Version 2"):
 // without the owners' trailer and the last reject counter (foreign_participant, which must be 0).

@@ -22,6 +22,7 @@
 #include <cmath>
 #include <cstring>
 #include <exception>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -37,11 +38,12 @@ namespace throng::match {
 namespace {
 
 constexpr std::uint32_t kMagic = 0x4B434D54;  // "TMCK" in the file
+// 4: the NPC AI in its compact form (npc_ai.h: no ids, spawn slots as flags).
 // 3: each client record keeps the participant that owns it (the binding of client ids).
 // 2: the interest settings hashed apart from the rest of the config, and the match and snapshot
 // sections length-prefixed (a reader can skip the baselines). 1: still restored (same config only).
 // Versions 1 and 2 restore with owners of all zeros, which is what the inputs logged with them carry.
-constexpr std::uint32_t kVersion = 3;
+constexpr std::uint32_t kVersion = 4;
 constexpr std::uint32_t kOldestVersion = 1;
 constexpr std::size_t kMaxClientsEver = 1u << 24;
 
@@ -216,9 +218,14 @@ void Match::Impl::compute_checkpoint_hashes() {
 }
 
 void Match::Impl::save_checkpoint(std::vector<std::uint8_t>& out, SaveOptions options) const {
+  const std::uint32_t version = options.format_version == 0 ? kVersion : options.format_version;
+  if (version != kVersion && version != 3) {
+    throw std::invalid_argument("save_checkpoint: format_version " + std::to_string(options.format_version) +
+                                ", this build writes 3 and " + std::to_string(kVersion));
+  }
   ByteWriter w(out, ByteWriter::kOverwrite);  // = cleared first, without re-zeroing the bytes
   w.put(kMagic);
-  w.put(kVersion);
+  w.put(version);
   w.put(scene_hash);
   w.put(config_hash);
   w.put(config_hashes(config).interest);
@@ -250,7 +257,7 @@ void Match::Impl::save_checkpoint(std::vector<std::uint8_t>& out, SaveOptions op
   const std::deque<ClientRecord>& records = clients.records();
   w.put(static_cast<std::uint32_t>(records.size()));
   for (const ClientRecord& c : records) put_client(w, c);
-  ai.save_state(w);
+  ai.save_state(w, version >= 4 ? NpcAi::AiStateForm::compact : NpcAi::AiStateForm::with_ids);
   // Version 3's trailer: each client's owner, then the client count again (so the section still
   // reads as version 2's up to here).
   for (const ClientRecord& c : records)
@@ -332,7 +339,7 @@ void restore_match(Impl& m, std::span<const std::uint8_t> bytes, RestoreOptions 
     if (c > records.size()) r.fail("a body is controlled by client " + std::to_string(c) + ", never seen");
   }
   NpcAi staged_ai = m.ai;
-  staged_ai.restore_state(r, n);
+  staged_ai.restore_state(r, n, l.version >= 4 ? NpcAi::AiStateForm::compact : NpcAi::AiStateForm::with_ids);
   if (l.version >= 3) {
     for (ClientRecord& c : records)
       for (std::uint8_t& b : c.owner.bytes) b = r.get<std::uint8_t>("client owner");
@@ -366,7 +373,7 @@ void restore_match(Impl& m, std::span<const std::uint8_t> bytes, RestoreOptions 
   // Throws before changing anything (the AI's bodies checked against the decoded world section
   // first); the last thing that may throw.
   m.world().restore_state(l.world, [&](std::span<const ObjectId> ids) {
-    staged_ai.check_bodies(ids);
+    staged_ai.bind_bodies(ids);
     // Clients and the bodies they control agree (found by fuzzing: a connected client whose entity
     // the world does not hold made the next snapshot read outside the position arrays).
     std::vector<std::uint32_t> controls(records.size() + 1, 0);  // client id -> bodies controlled

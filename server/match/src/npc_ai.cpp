@@ -118,9 +118,18 @@ void NpcAi::init(const World& world) {
     G.anchor_x = G.centroid_x = sum_x_[g] / G.members;
     G.anchor_y = G.centroid_y = sum_y_[g] / G.members;
   }
+  std::size_t slots = 0;
+  for (std::size_t i = 0; i < n; ++i) slots = std::max<std::size_t>(slots, std::size_t{ids_[i].index()} + 1);
+  spawn_id_.assign(slots, kNoSpawn);
+  spawn_slot_x_.assign(slots, 0.0);
+  spawn_slot_y_.assign(slots, 0.0);
   for (std::size_t i = 0; i < n; ++i) {
     slot_x_[i] = xs[i] - groups_[group_[i]].anchor_x;
     slot_y_[i] = ys[i] - groups_[group_[i]].anchor_y;
+    const std::uint32_t k = ids_[i].index();
+    spawn_id_[k] = ids_[i].value;
+    spawn_slot_x_[k] = slot_x_[i];
+    spawn_slot_y_[k] = slot_y_[i];
   }
 }
 

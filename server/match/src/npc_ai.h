@@ -105,14 +105,26 @@ class NpcAi {
 
   // Checkpoints (npc_ai_state.cpp): the per-body brain (group, formation slot, charged enemy),
   // the groups (anchors, morale level, last centroids), the faction slots and the tick count.
-  // restore_state replaces this AI's state (n bodies) or throws CheckpointError part-way, so
-  // callers restore into a copy and move it in once everything else has decoded too.
-  void save_state(ByteWriter& w) const;
-  void restore_state(ByteReader& r, std::size_t n);
+  // The layout has two forms (`AiStateForm`): match checkpoints of version 4 hold `compact`,
+  // older ones `with_ids`. restore_state replaces this AI's state (n bodies) or throws
+  // CheckpointError part-way, so callers restore into a copy and move it in once everything else
+  // has decoded too.
+  enum class AiStateForm {
+    // Per body its id and formation slot (x, y).
+    with_ids,
+    // No ids: the AI's order is the world's dense order (it follows every re-sort), so the world
+    // section names the bodies. A formation slot still equal to the body's spawn slot (every NPC
+    // no operator moved to another group) is a flag, not two doubles: the spawn layout is the
+    // scene's, which the restoring match was built from.
+    compact,
+  };
+  void save_state(ByteWriter& w, AiStateForm form) const;
+  void restore_state(ByteReader& r, std::size_t n, AiStateForm form);
   // After restore_state: throws CheckpointError unless the restored AI drives exactly the bodies
-  // `body_ids` (a world's, in its dense order; the AI's own order may be an older one, which
-  // align_with catches up with).
-  void check_bodies(std::span<const ObjectId> body_ids) const;
+  // `body_ids` (a world's, in its dense order; with `with_ids` the AI's own order may be an older
+  // one, which align_with catches up with). With `compact` it takes those ids as its own and
+  // resolves the spawn slots from them.
+  void bind_bodies(std::span<const ObjectId> body_ids);
 
   std::span<const AiGroup> groups() const { return groups_; }
   std::uint32_t group_of(std::size_t dense_index) const { return group_[dense_index]; }
@@ -136,6 +148,15 @@ class NpcAi {
   std::vector<std::uint32_t> group_;
   std::vector<std::uint8_t> fslot_;
   std::vector<double> slot_x_, slot_y_;
+  // The spawn layout by ObjectId index (init): the body's id value then (kNoSpawn if none) and its
+  // slot. Scene data, never saved; the compact checkpoint refers to it.
+  static constexpr std::uint32_t kNoSpawn = 0xFFFFFFFFu;
+  std::vector<std::uint32_t> spawn_id_;
+  std::vector<double> spawn_slot_x_, spawn_slot_y_;
+  // Between restore_state(compact) and bind_bodies: which bodies keep their spawn slot.
+  std::vector<std::uint8_t> restored_at_spawn_;
+  bool restored_compact_ = false;
+  void put_compact_slots(ByteWriter& w) const;
   std::vector<std::uint32_t> body_cell_;
   std::vector<std::uint32_t> target_;             // dense index of the enemy being charged, or kNoTarget
   std::uint64_t ticks_ = 0;
