@@ -52,6 +52,7 @@
 #include <fmt/format.h>
 
 #include "interest_grid.h"
+#include "lazy_zero_array.h"
 #include "throng/core/byte_io.h"
 #include "throng/core/object_id.h"
 #include "throng/protocol/codec.h"
@@ -202,12 +203,12 @@ struct PendingRemoval {
 struct Client {
   std::uint32_t client_id = 0;
   std::uint32_t stamp = 0;  // builds so far
-  std::vector<ObjectState> obj;       // by object index
+  detail::LazyZeroArray<ObjectState> obj;  // by object index (lazy_zero_array.h says why not a vector)
   std::vector<KnownEntry> known;      // objects the client holds, in the order they became known
   std::vector<PendingRemoval> pending;
 
   void reserve(std::size_t capacity) {
-    if (obj.size() < capacity) obj.resize(capacity);
+    obj.grow_to(capacity);
     known.reserve(capacity);
     pending.reserve(capacity + 64);
   }
