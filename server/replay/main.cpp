@@ -5,6 +5,7 @@
 //   play    re-publish the match over DDS at tick_hz x speed, so bots and viewers watch it as if live
 //   seek    go to a tick through the nearest world keyframe and check its state hash
 #include <cmath>
+#include <cstdint>
 #include <exception>
 #include <string>
 
@@ -23,6 +24,20 @@ int main(int argc, char** argv) {
       "Logs of format version 2 carry a world keyframe every ~2 s: seek and play --from start from the\n"
       "nearest one, verify compares each and runs keyframe-aligned segments in parallel (--jobs)."};
   app.require_subcommand(1);
+  // CLI11's PositiveNumber prints its range as 0 to 1.8e308; ticks are whole numbers from 1.
+  const CLI::Validator tick_number(
+      [](std::string& v) -> std::string {
+        std::uint64_t t = 0;
+        try {
+          std::size_t used = 0;
+          t = std::stoull(v, &used);
+          if (used != v.size() || v.front() == '-') return "a tick is a whole number from 1 (got '" + v + "')";
+        } catch (const std::exception&) {
+          return "a tick is a whole number from 1 (got '" + v + "')";
+        }
+        return t == 0 ? "ticks start at 1 (got 0)" : std::string();
+      },
+      "TICK>=1");
 
   InfoOptions info;
   CLI::App* info_cmd = app.add_subcommand("info", "Header, ticks, duration, clients, bytes/tick, index, torn tail or not");
@@ -50,7 +65,7 @@ int main(int argc, char** argv) {
       "seek", "Re-simulate to --tick from the nearest world keyframe at or before it; print where it started, the "
               "time taken and the state hash at the tick against the logged one (exit 0 match, 1 mismatch)");
   seek_cmd->add_option("LOG", seek.log, "match log file")->required();
-  seek_cmd->add_option("--tick", seek.tick, "the tick to go to (ticks start at 1)")->required()->check(CLI::PositiveNumber);
+  seek_cmd->add_option("--tick", seek.tick, "the tick to go to (ticks start at 1)")->required()->check(tick_number);
   seek_cmd->add_flag("--json", seek.json, "machine-readable output");
 
   ExportOptions ex;
@@ -58,7 +73,7 @@ int main(int argc, char** argv) {
       "export", "Re-simulate to --to and write poses (id, x, y, z, vx, vy, vz, yaw = facing in radians) and push events (a, b, depth, share_a, "
                 "push) of ticks --from..--to");
   export_cmd->add_option("LOG", ex.log, "match log file")->required();
-  export_cmd->add_option("--from", ex.from, "first tick to write (ticks start at 1)")->check(CLI::PositiveNumber);
+  export_cmd->add_option("--from", ex.from, "first tick to write (ticks start at 1)")->check(tick_number);
   export_cmd->add_option("--to", ex.to, "last tick to write (default: --from)");
   export_cmd->add_option("--format", ex.format, "csv or json")->check(CLI::IsMember({"csv", "json"}));
   export_cmd->add_option("--out", ex.out, "output file (default: stdout)");
@@ -94,7 +109,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Validator(finite, "FINITE"))
       ->check(CLI::Range(0.1, 16.0));
   play_cmd->add_option("--from", play.from, "first tick to publish (re-simulates up to it first; ticks start at 1)")
-      ->check(CLI::PositiveNumber);
+      ->check(tick_number);
   play_cmd->add_option("--domain", play.domain, "DDS domain id (like throng-server)")->check(CLI::Range(0, 232));
   play_cmd->add_flag("--network", play.network, "Fast DDS's default transports and discovery (default: 127.0.0.1 only)");
   play_cmd->add_option("--listen", play.listen, "tcp://ADDR:PORT: DDS over TCP only (viewers and bots use --server)")

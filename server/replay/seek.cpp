@@ -30,11 +30,7 @@ int run_seek(const SeekOptions& o) {
     return kExitBadInput;
   }
   const std::uint64_t actual = player->match().state_hash();
-  // The logged hash of the tick (the player compared it; read it for the output).
-  matchlog::MatchLogReader reader(o.log);
-  reader.seek(o.tick);
-  matchlog::TickRecord t;
-  const std::uint64_t logged = reader.next(t) ? t.state_hash : 0;
+  const std::uint64_t logged = r.logged_hash;
   const bool matched = actual == logged;
   const std::string from = r.keyframe_tick > 0 ? fmt::format("the keyframe of tick {}", r.keyframe_tick) : "the match start";
   if (o.json) {

@@ -193,7 +193,17 @@ TEST(Keyframes, PlayerSeeksThroughTheNearestKeyframe) {
   EXPECT_EQ(r.ticks_simulated, 30u);
   EXPECT_EQ(r.hash_mismatches, 0u);
   EXPECT_EQ(seeker.match().state_hash(), p.ticks[149].state_hash);
+  EXPECT_EQ(r.logged_hash, p.ticks[149].state_hash);
   EXPECT_EQ(seeker.match().tick_index(), 150u);
+
+  r = seeker.seek(120);  // onto a keyframe: restored, nothing simulated, the logged hash still known
+  EXPECT_EQ(r.keyframe_tick, 120u);
+  EXPECT_EQ(r.ticks_simulated, 0u);
+  EXPECT_EQ(r.logged_hash, p.ticks[119].state_hash);
+  EXPECT_EQ(seeker.match().state_hash(), p.ticks[119].state_hash);
+  ASSERT_TRUE(seeker.step());  // and steps on from the keyframe's next tick
+  EXPECT_TRUE(seeker.last_hash_matched());
+  EXPECT_EQ(seeker.match().state_hash(), p.ticks[120].state_hash);
 
   r = seeker.seek(70);  // backwards
   EXPECT_EQ(r.keyframe_tick, 60u);
@@ -207,7 +217,9 @@ TEST(Keyframes, PlayerSeeksThroughTheNearestKeyframe) {
   r = seeker.seek(30);  // before the first keyframe: from the match start
   EXPECT_EQ(r.keyframe_tick, 0u);
   EXPECT_EQ(r.ticks_simulated, 30u);
+  EXPECT_EQ(r.logged_hash, p.ticks[29].state_hash);
   EXPECT_EQ(seeker.match().state_hash(), p.ticks[29].state_hash);
+  EXPECT_EQ(seeker.seek(0).logged_hash, 0u);  // the match before its first tick
 
   // After a jump through a keyframe the next ticks' outbox (snapshots, replies) equals a stepped player's.
   seeker.seek(120);
@@ -398,7 +410,8 @@ TEST(Keyframes, VersionOneKeyframesOfEarlierBuildsStillSeekAndVerify) {
   // runs such segments with them; both still use the keyframes.
   const auto& p = played();
   std::vector<Bytes> v1;
-  for (const Bytes& k : p.keyframes) v1.push_back(::throng::test::as_version_1(k, test::match_header().config));
+  const LogHeader h = test::match_header();
+  for (const Bytes& k : p.keyframes) v1.push_back(::throng::test::as_version_1(::throng::test::as_version_3(k, h.scene, h.config), h.config));
   const auto path = test::test_dir() / "v1kf.tlog";
   test::write_played(path, p.ticks, test::match_header(), {}, 0, &v1);
   PlayerOptions o;

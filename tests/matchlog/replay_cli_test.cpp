@@ -224,6 +224,13 @@ TEST_F(ReplayCli, SeekMismatchAndErrors) {
   EXPECT_TRUE(has(r.err, "--tick 91 is outside the ticks that can be re-simulated (1..90)")) << r.err;
   r = run("seek '" + log_.string() + "' --tick 0", dir_);
   EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r.err, "ticks start at 1 (got 0)")) << r.err;
+  r = run("seek '" + log_.string() + "' --tick 1.5", dir_);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r.err, "a tick is a whole number from 1 (got '1.5')")) << r.err;
+  r = run("export '" + log_.string() + "' --from -3", dir_);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r.err, "a tick is a whole number from 1")) << r.err;
   r = run("seek '" + log_.string() + "'", dir_);  // --tick is required
   EXPECT_EQ(r.code, 2);
   EXPECT_TRUE(has(r.err, "--tick")) << r.err;

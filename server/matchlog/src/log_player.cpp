@@ -21,6 +21,7 @@ struct LogPlayer::Impl {
     sim.reset();
     sim = std::make_unique<Resimulator>(reader.header(), options.resim);
     reader.rewind();
+    rec = TickRecord{};
     matched = true;
   }
 
@@ -42,7 +43,10 @@ struct LogPlayer::Impl {
       restart();
       return false;
     }
-    reader.seek(k.tick + 1);
+    // The keyframe tick's own record (its logged hash), leaving the reader at the next tick.
+    reader.seek(k.tick);
+    if (!reader.next(rec) || rec.tick != k.tick)
+      throw LogError(fmt::format("{}: tick {} is not readable although the scan listed it", reader.path(), k.tick));
     matched = true;
     return true;
   }
@@ -95,6 +99,7 @@ SeekResult LogPlayer::seek(std::uint64_t target) {
     if (!m.matched && r.hash_mismatches++ == 0) r.first_mismatch_tick = m.sim->tick();
   }
   r.tick = m.sim->tick();
+  r.logged_hash = m.rec.tick == r.tick ? m.rec.state_hash : 0;
   r.ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
   return r;
 }

@@ -43,6 +43,7 @@ struct SeekResult {
   double ms = 0.0;                  // wall time of the seek
   std::uint64_t hash_mismatches = 0;     // ticks simulated by this seek whose hash differed from the log
   std::uint64_t first_mismatch_tick = 0; // the first of them (0: none)
+  std::uint64_t logged_hash = 0;         // the log's state hash of `tick` (0 at tick 0)
 };
 
 class LogPlayer {
