@@ -94,6 +94,41 @@ TEST(WorldHardCases, CrowdSqueezedBetweenTwoWalls) {
   EXPECT_LT(res.max_pen_over_radius, 0.25);
 }
 
+// Which bodies are near scenery is a bitmap over the scenery cells' bounding box, or a search of
+// the cells when that box holds more than 4 Mi cells (2 m). Both must stop the bodies at every
+// wall: here two walls 9 km apart on a diagonal (the search), then 90 m apart (the bitmap), and
+// bodies pressing into each wall from both sides, some in the bitmap's edge cells.
+TEST(WorldHardCases, WallsFarApartStopBodiesAsWallsCloseTogether) {
+  for (const double gap : {9000.0, 90.0}) {
+    SCOPED_TRACE(gap);
+    World w(budget(8), test_table(), weight_policy(params::PushMode::ratio, 100.0));
+    std::vector<ObjectId> ids;
+    std::vector<double> wall_x;
+    for (const double cx : {-0.5 * gap, 0.5 * gap}) {
+      const double cy = cx;
+      w.add_fixed_box({cx, cy, 1.0}, {0.25, 3.0, 1.0}, 0.0);  // faces at cx -+ 0.25
+      wall_x.push_back(cx);
+      for (int k = 0; k < 6; ++k) {
+        ids.push_back(add_sphere(w, cx - 1.5, cy - 2.5 + k, 0.35));  // left of the wall, walking right
+        ids.push_back(add_sphere(w, cx + 1.5, cy - 2.5 + k, 0.35));  // right of it, walking left
+      }
+    }
+    for (int t = 0; t < 90; ++t) {
+      for (std::size_t i = 0; i < ids.size(); ++i) w.set_desired_velocity(ids[i], {i % 2 == 0 ? 1.5 : -1.5, 0.0, 0.0});
+      w.step();
+    }
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      const double cx = wall_x[i / 12];
+      const double x = w.position(ids[i]).x;
+      if (i % 2 == 0) {
+        EXPECT_NEAR(x, cx - 0.25 - 0.35, 1e-6) << i;  // stopped at the wall's left face
+      } else {
+        EXPECT_NEAR(x, cx + 0.25 + 0.35, 1e-6) << i;
+      }
+    }
+  }
+}
+
 TEST(WorldHardCases, AgentPinnedBetweenWallAndHeavyPusher) {
   World w(budget(8), test_table(), weight_policy(params::PushMode::ratio, 10.0));  // 200 vs 80 kg: share 1 - 6e-6
   w.add_fixed_box({-1.0, 0.0, 1.0}, {1.0, 5.0, 1.0}, 0.0);  // wall face at x = 0

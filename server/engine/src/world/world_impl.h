@@ -49,6 +49,11 @@ struct World::Impl {
   bool scenery_dirty = false;
   double scenery_cell_m = 2.0;
   std::vector<std::uint64_t> scenery_cells;  // sorted keys of cells near any fixed shape
+  // The same cells as a bitmap over their bounding box (cells bx0.., by0.., bw x bh), so that
+  // near_scenery, asked for every body twice a tick, is one load instead of a binary search;
+  // empty when that box would be too large (scenery far apart), and then the keys are searched.
+  std::vector<std::uint8_t> scenery_bitmap;
+  std::int64_t scenery_bx0 = 0, scenery_by0 = 0, scenery_bw = 0, scenery_bh = 0;
   double max_body_reach_m = 0.0;
   double scenery_reach_m = 0.0;  // reach the scenery cells were built for
 

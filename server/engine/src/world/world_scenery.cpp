@@ -53,23 +53,49 @@ void World::Impl::rebuild_scenery_cells(double reach) {
   if (scenery_dirty) scenery.build();
   scenery_dirty = false;
   scenery_cells.clear();
+  scenery_bitmap.clear();
   scenery_reach_m = reach;
   const double inv = 1.0 / scenery_cell_m;
+  std::int64_t bx0 = 0, by0 = 0, bx1 = -1, by1 = -1;
   for (std::uint32_t s = 0; s < scenery.size(); ++s) {
     const geom::Aabb box = scenery.aabb(s);
     const std::int64_t x0 = detail::cell_coord(box.lo.x - reach, inv), x1 = detail::cell_coord(box.hi.x + reach, inv);
     const std::int64_t y0 = detail::cell_coord(box.lo.y - reach, inv), y1 = detail::cell_coord(box.hi.y + reach, inv);
+    if (bx1 < bx0) {
+      bx0 = x0, bx1 = x1, by0 = y0, by1 = y1;
+    } else {
+      bx0 = std::min(bx0, x0), bx1 = std::max(bx1, x1), by0 = std::min(by0, y0), by1 = std::max(by1, y1);
+    }
     for (std::int64_t cy = y0; cy <= y1; ++cy) {
       for (std::int64_t cx = x0; cx <= x1; ++cx) scenery_cells.push_back(detail::packed_cell_key(cx, cy));
     }
   }
   std::sort(scenery_cells.begin(), scenery_cells.end());
   scenery_cells.erase(std::unique(scenery_cells.begin(), scenery_cells.end()), scenery_cells.end());
+  // A bitmap of at most 4 Mi cells (a 4 km square of 2 m cells): enough for any one battlefield.
+  constexpr std::int64_t kMaxBitmapCells = std::int64_t{1} << 22;
+  if (scenery_cells.empty() || bx1 - bx0 + 1 > kMaxBitmapCells || by1 - by0 + 1 > kMaxBitmapCells ||
+      (bx1 - bx0 + 1) * (by1 - by0 + 1) > kMaxBitmapCells) {
+    return;
+  }
+  scenery_bx0 = bx0, scenery_by0 = by0, scenery_bw = bx1 - bx0 + 1, scenery_bh = by1 - by0 + 1;
+  scenery_bitmap.assign(static_cast<std::size_t>(scenery_bw * scenery_bh), 0);
+  for (const std::uint64_t key : scenery_cells) {
+    const std::int64_t cx = static_cast<std::int64_t>(key & 0xFFFFFFFFu) - (std::int64_t{1} << 31);
+    const std::int64_t cy = static_cast<std::int64_t>(key >> 32) - (std::int64_t{1} << 31);
+    scenery_bitmap[static_cast<std::size_t>((cy - scenery_by0) * scenery_bw + (cx - scenery_bx0))] = 1;
+  }
 }
 
 bool World::Impl::near_scenery(double x, double y) const {
   if (scenery_cells.empty()) return false;
-  return std::binary_search(scenery_cells.begin(), scenery_cells.end(), scenery_cell_key(x, y, 1.0 / scenery_cell_m));
+  const double inv = 1.0 / scenery_cell_m;
+  if (scenery_bitmap.empty()) {
+    return std::binary_search(scenery_cells.begin(), scenery_cells.end(), scenery_cell_key(x, y, inv));
+  }
+  const std::int64_t cx = detail::cell_coord(x, inv) - scenery_bx0, cy = detail::cell_coord(y, inv) - scenery_by0;
+  if (cx < 0 || cy < 0 || cx >= scenery_bw || cy >= scenery_bh) return false;
+  return scenery_bitmap[static_cast<std::size_t>(cy * scenery_bw + cx)] != 0;
 }
 
 void World::Impl::build_scenery_planes() {
