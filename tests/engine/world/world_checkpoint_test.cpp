@@ -145,9 +145,10 @@ WorldLayout world_layout(const Bytes& b) {
   return l;
 }
 
-// Version 2 (logs of earlier builds) held every body's id as a column after `grounded`; version 3
-// names the bodies by the slot table only. A version 2 section of the same world restores to the
-// same state, with destroyed and re-created bodies (generations) among them.
+// Version 2 (logs of earlier builds) held every body's id as a column after `grounded` and as the
+// first field of its parameter record; version 3 names the bodies by the slot table only. A
+// version 2 section of the same world restores to the same state, with destroyed and re-created
+// bodies (generations) among them.
 TEST(WorldCheckpoint, VersionTwoWithItsIdColumnStillRestores) {
   const scene::SceneDef def = small("mixed");
   scene::BuiltScene a = scene::build_scene(def);
@@ -177,7 +178,22 @@ TEST(WorldCheckpoint, VersionTwoWithItsIdColumnStillRestores) {
   };
   put_u32(l.n);
   for (std::size_t d = 0; d < l.n; ++d) put_u32(a.world.id_at(d).value);
-  v2.insert(v2.end(), v3.begin() + static_cast<std::ptrdiff_t>(ids_at), v3.end());
+  // Then resistance (f64), rule_lhs, rule_rhs, group, mask (u32), coeff_dirty, morale_level,
+  // warm_count (u8), the warm entries (a u32 total, 12 bytes each), the body parameter records
+  // (116 bytes in version 3, 120 with the object id in front in version 2).
+  const std::size_t n = l.n;
+  const std::size_t warm_at = ids_at + (4 + 8 * n) + 4 * (4 + 4 * n) + 3 * (4 + n);
+  std::uint32_t warm_total = 0;
+  std::memcpy(&warm_total, v3.data() + warm_at, 4);
+  const std::size_t params_at = warm_at + 4 + 12 * std::size_t{warm_total};
+  v2.insert(v2.end(), v3.begin() + static_cast<std::ptrdiff_t>(ids_at), v3.begin() + static_cast<std::ptrdiff_t>(params_at));
+  for (std::size_t d = 0; d < n; ++d) {
+    put_u32(a.world.id_at(d).value);
+    const auto rec = v3.begin() + static_cast<std::ptrdiff_t>(params_at + 116 * d);
+    v2.insert(v2.end(), rec, rec + 116);
+  }
+  v2.insert(v2.end(), v3.begin() + static_cast<std::ptrdiff_t>(params_at + 116 * n), v3.end());
+  ASSERT_EQ(v2.size(), v3.size() + 4 + 8 * n);  // the id column (count and ids) and the records' ids
 
   scene::BuiltScene b = scene::build_scene(def);
   b.world.restore_state(v2);
@@ -185,7 +201,10 @@ TEST(WorldCheckpoint, VersionTwoWithItsIdColumnStillRestores) {
   b.world.save_state(again);
   EXPECT_EQ(again, v3);
   EXPECT_EQ(b.world.state_hash(), a.world.state_hash());
-  for (std::size_t d = 0; d < l.n; ++d) ASSERT_EQ(b.world.id_at(d), a.world.id_at(d)) << d;
+  for (std::size_t d = 0; d < l.n; ++d) {
+    ASSERT_EQ(b.world.id_at(d), a.world.id_at(d)) << d;
+    ASSERT_EQ(b.world.params(b.world.id_at(d)).object_id, b.world.id_at(d).value) << d;
+  }
   EXPECT_FALSE(b.world.is_body(a.body_ids[7]));
   for (int t = 0; t < 20; ++t) {
     steer_in(a.world);

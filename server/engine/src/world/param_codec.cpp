@@ -73,10 +73,11 @@ params::SidePredicate get_predicate(ByteReader& r) {
 
 }  // namespace
 
-void put_params(ByteWriter& w, std::span<const params::ObjectParams> records) {
-  Cursor c{w.grow(records.size() * kParamsRecordBytes)};
+void put_params(ByteWriter& w, std::span<const params::ObjectParams> records, ObjectIdField ids) {
+  const bool with_id = ids == ObjectIdField::kept;
+  Cursor c{w.grow(records.size() * (with_id ? kParamsRecordBytes : kParamsRecordBytesWithoutId))};
   for (const params::ObjectParams& p : records) {
-    c.put(p.object_id);
+    if (with_id) c.put(p.object_id);
     c.put(p.collision_id);
     c.put(static_cast<std::uint8_t>(p.kind));
     c.put(p.importance);
@@ -100,11 +101,12 @@ void put_params(ByteWriter& w, std::span<const params::ObjectParams> records) {
   }
 }
 
-void get_params(ByteReader& r, std::size_t n, std::vector<params::ObjectParams>& out, const char* what) {
-  ReadCursor c{r.take(n * kParamsRecordBytes, what)};
+void get_params(ByteReader& r, std::size_t n, std::vector<params::ObjectParams>& out, const char* what, ObjectIdField ids) {
+  const bool with_id = ids == ObjectIdField::kept;
+  ReadCursor c{r.take(n * (with_id ? kParamsRecordBytes : kParamsRecordBytesWithoutId), what)};
   out.resize(n);
   for (params::ObjectParams& p : out) {
-    p.object_id = c.get<std::uint32_t>();
+    p.object_id = with_id ? c.get<std::uint32_t>() : 0;
     p.collision_id = c.get<std::uint32_t>();
     p.kind = checked_enum<params::Kind>(c.get<std::uint8_t>(), 4, "params.kind", r);
     p.importance = c.get<double>();

@@ -14,12 +14,20 @@
 
 namespace throng::detail {
 
-// Bytes of one ObjectParams record (fixed size: a record array is one block of n * this).
+// Bytes of one ObjectParams record (fixed size: a record array is one block of n * this), with
+// and without its object id.
 inline constexpr std::size_t kParamsRecordBytes = 120;
+inline constexpr std::size_t kParamsRecordBytesWithoutId = 116;
 
-void put_params(ByteWriter& w, std::span<const params::ObjectParams> records);
-// Reads exactly n records; categorical values out of range throw CheckpointError.
-void get_params(ByteReader& r, std::size_t n, std::vector<params::ObjectParams>& out, const char* what);
+// Whether a record carries its object id: bodies' records leave it out (world state version 3),
+// because a body's object id is its ObjectId, which the slot table already names.
+enum class ObjectIdField : std::uint8_t { kept, left_out };
+
+void put_params(ByteWriter& w, std::span<const params::ObjectParams> records, ObjectIdField ids = ObjectIdField::kept);
+// Reads exactly n records; categorical values out of range throw CheckpointError. With left_out
+// the records' object_id is 0, for the caller to set.
+void get_params(ByteReader& r, std::size_t n, std::vector<params::ObjectParams>& out, const char* what,
+                ObjectIdField ids = ObjectIdField::kept);
 
 void put_policy(ByteWriter& w, const params::PushPolicy& policy);
 // Validates through PushPolicy's constructor; its error becomes a CheckpointError.

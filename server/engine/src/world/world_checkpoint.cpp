@@ -114,7 +114,7 @@ void World::Impl::save_state(ByteWriter& w) const {
       p += 12;
     }
   }
-  detail::put_params(w, body_params);
+  detail::put_params(w, body_params, detail::ObjectIdField::left_out);  // a body's object id is its id
   w.put(static_cast<std::uint32_t>(cameras.size()));
   for (const Vec3& c : cameras) { w.put(c.x); w.put(c.y); w.put(c.z); }
   w.put(static_cast<std::uint8_t>(all_coefficients_dirty ? 1 : 0));
@@ -261,7 +261,12 @@ WorldState decode_world_state(ByteReader& r) {
       }
     }
   }
-  get_params(r, n, st.body_params, "body params");
+  if (version >= 3) {
+    get_params(r, n, st.body_params, "body params", ObjectIdField::left_out);
+    for (std::uint32_t d = 0; d < n; ++d) st.body_params[d].object_id = st.bodies.id[d].value;
+  } else {
+    get_params(r, n, st.body_params, "body params");
+  }
   st.cameras.resize(r.get_count("cameras", kMaxCameras, 24));
   for (Vec3& c : st.cameras) {
     c.x = r.get<double>("camera");
