@@ -169,24 +169,38 @@ TEST(WorldCheckpoint, VersionTwoWithItsIdColumnStillRestores) {
   std::memcpy(&version, v3.data() + 4, 4);
   ASSERT_EQ(version, 3u);
   // 13 f64 columns (x .. hh) and grounded, each with its u32 count; the ids follow grounded.
-  const std::size_t ids_at = l.columns + 13 * (4 + 8 * std::size_t{l.n}) + 4 + l.n;
-  Bytes v2(v3.begin(), v3.begin() + static_cast<std::ptrdiff_t>(ids_at));
+  // The body columns, each a u32 count then n values: 13 f64 (x .. hh), grounded (u8), [version 2:
+  // the ids], resistance (f64), rule_lhs, rule_rhs, group, mask (u32), coeff_dirty, morale_level,
+  // warm_count (u8). Version 3 writes f64 columns as eight byte planes, version 2 value by value.
+  const std::size_t n = l.n;
+  Bytes v2(v3.begin(), v3.begin() + static_cast<std::ptrdiff_t>(l.columns));
   v2[4] = 2;
   const auto put_u32 = [&v2](std::uint32_t v) {
     const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
     v2.insert(v2.end(), p, p + 4);
   };
-  put_u32(l.n);
-  for (std::size_t d = 0; d < l.n; ++d) put_u32(a.world.id_at(d).value);
-  // Then resistance (f64), rule_lhs, rule_rhs, group, mask (u32), coeff_dirty, morale_level,
-  // warm_count (u8), the warm entries (a u32 total, 12 bytes each), the body parameter records
-  // (116 bytes in version 3, 120 with the object id in front in version 2).
-  const std::size_t n = l.n;
-  const std::size_t warm_at = ids_at + (4 + 8 * n) + 4 * (4 + 4 * n) + 3 * (4 + n);
+  std::size_t at = l.columns;
+  const std::vector<std::size_t> sizes = {8, 8, 8, 8, 8, 8, 8, 8, 8, 8, 8, 8, 8, 1, 0, 8, 4, 4, 4, 4, 1, 1, 1};
+  for (const std::size_t size : sizes) {
+    if (size == 0) {  // the ids, after grounded
+      put_u32(l.n);
+      for (std::size_t d = 0; d < n; ++d) put_u32(a.world.id_at(d).value);
+      continue;
+    }
+    v2.insert(v2.begin() + static_cast<std::ptrdiff_t>(v2.size()), v3.begin() + static_cast<std::ptrdiff_t>(at),
+              v3.begin() + static_cast<std::ptrdiff_t>(at + 4));
+    at += 4;
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t k = 0; k < size; ++k) v2.push_back(size == 8 ? v3[at + k * n + i] : v3[at + i * size + k]);
+    }
+    at += n * size;
+  }
+  // Then the warm entries (a u32 total, 12 bytes each), the body parameter records (116 bytes in
+  // version 3, 120 with the object id in front in version 2) and the rest as it is.
   std::uint32_t warm_total = 0;
-  std::memcpy(&warm_total, v3.data() + warm_at, 4);
-  const std::size_t params_at = warm_at + 4 + 12 * std::size_t{warm_total};
-  v2.insert(v2.end(), v3.begin() + static_cast<std::ptrdiff_t>(ids_at), v3.begin() + static_cast<std::ptrdiff_t>(params_at));
+  std::memcpy(&warm_total, v3.data() + at, 4);
+  const std::size_t params_at = at + 4 + 12 * std::size_t{warm_total};
+  v2.insert(v2.end(), v3.begin() + static_cast<std::ptrdiff_t>(at), v3.begin() + static_cast<std::ptrdiff_t>(params_at));
   for (std::size_t d = 0; d < n; ++d) {
     put_u32(a.world.id_at(d).value);
     const auto rec = v3.begin() + static_cast<std::ptrdiff_t>(params_at + 116 * d);
@@ -333,15 +347,23 @@ TEST(WorldCheckpoint, NonFiniteBodyStateIsRefused) {
   run(a, 5);
   Bytes saved;
   a.world.save_state(saved);
-  // The x column holds body 0's x as its first entry: find those 8 bytes (unique in practice).
+  // The x column (the first body column) holds body 0's x as its first entry, written as byte
+  // planes: its byte k is at plane k, n bytes apart.
+  const WorldLayout l = world_layout(saved);
+  const auto at = saved.begin() + static_cast<std::ptrdiff_t>(l.columns + 4);
   const double x0 = a.world.pos_x()[0];
-  std::uint8_t pattern[8];
-  std::memcpy(pattern, &x0, 8);
-  const auto at = std::search(saved.begin(), saved.end(), pattern, pattern + 8);
-  ASSERT_NE(at, saved.end());
+  for (std::size_t k = 0; k < 8; ++k) {
+    std::uint64_t bits = 0;
+    std::memcpy(&bits, &x0, 8);
+    ASSERT_EQ(at[static_cast<std::ptrdiff_t>(k * l.n)], static_cast<std::uint8_t>(bits >> (8 * k))) << k;
+  }
   for (const double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
     Bytes damaged = saved;
-    std::memcpy(&damaged[static_cast<std::size_t>(at - saved.begin())], &bad, 8);
+    std::uint64_t bits = 0;
+    std::memcpy(&bits, &bad, 8);
+    for (std::size_t k = 0; k < 8; ++k) {
+      damaged[l.columns + 4 + k * l.n] = static_cast<std::uint8_t>(bits >> (8 * k));
+    }
     scene::BuiltScene b = scene::build_scene(def);
     Bytes before;
     b.world.save_state(before);
@@ -397,7 +419,9 @@ TEST(WorldCheckpoint, NonFiniteBodyStateIsRefused) {
   const std::size_t vx0 = static_cast<std::size_t>(at - saved.begin()) + 3 * n * 8 + 3 * 4;
   Bytes fast = saved;
   const double too_fast = 2000.0;
-  std::memcpy(&fast[vx0], &too_fast, 8);
+  std::uint64_t bits = 0;
+  std::memcpy(&bits, &too_fast, 8);
+  for (std::size_t k = 0; k < 8; ++k) fast[vx0 + k * n] = static_cast<std::uint8_t>(bits >> (8 * k));  // byte planes
   scene::BuiltScene c = scene::build_scene(def);
   try {
     c.world.restore_state(fast);

@@ -49,6 +49,32 @@ struct Fnv {
   }
 };
 
+// f64 columns as eight byte planes (byte 0 of every value, then byte 1, ...; bytes little-endian).
+// Why: the sign, exponent and leading mantissa bytes of neighbouring positions and velocities
+// repeat, and zstd finds them once they are adjacent: about 6% of a battle keyframe.
+void put_planes(ByteWriter& w, const std::vector<double>& col) {
+  const std::size_t n = col.size();
+  w.put(static_cast<std::uint32_t>(n));
+  std::uint8_t* p = w.grow(n * 8);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint64_t b = 0;
+    std::memcpy(&b, &col[i], 8);
+    for (std::size_t k = 0; k < 8; ++k) p[k * n + i] = static_cast<std::uint8_t>(b >> (8 * k));
+  }
+}
+
+void get_planes(ByteReader& r, std::vector<double>& col, std::size_t n) {
+  const std::uint32_t count = r.get_count("body column", n);
+  if (count != n) r.fail("body column: " + std::to_string(count) + " entries, expected " + std::to_string(n));
+  const std::uint8_t* p = r.take(n * 8, "body column");
+  col.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint64_t b = 0;
+    for (std::size_t k = 0; k < 8; ++k) b |= std::uint64_t{p[k * n + i]} << (8 * k);
+    std::memcpy(&col[i], &b, 8);
+  }
+}
+
 std::string hex(std::uint64_t v) {
   static const char* digits = "0123456789abcdef";
   std::string s(16, '0');
@@ -97,7 +123,12 @@ void World::Impl::save_state(ByteWriter& w) const {
   w.put(scenery_reach_m);
   // Every column but the ids: the slots above say which slot refers to which dense index.
   bodies.for_each_column([&](const auto& col) {
-    if constexpr (!std::is_same_v<std::decay_t<decltype(col)>, std::vector<ObjectId>>) w.put_array(col);
+    using Col = std::decay_t<decltype(col)>;
+    if constexpr (std::is_same_v<Col, std::vector<double>>) {
+      put_planes(w, col);
+    } else if constexpr (!std::is_same_v<Col, std::vector<ObjectId>>) {
+      w.put_array(col);
+    }
   });
   // Warm-start entries: only the first warm_count of each body's kWarmSlots are ever read.
   std::uint32_t warm_total = 0;
@@ -197,8 +228,12 @@ WorldState decode_world_state(ByteReader& r) {
            " out of range");
   }
   st.bodies.for_each_column([&](auto& col) {
-    if constexpr (std::is_same_v<std::decay_t<decltype(col)>, std::vector<ObjectId>>) {
+    using Col = std::decay_t<decltype(col)>;
+    if constexpr (std::is_same_v<Col, std::vector<ObjectId>>) {
       if (version >= 3) return;  // named by the slots, below
+    }
+    if constexpr (std::is_same_v<Col, std::vector<double>>) {
+      if (version >= 3) return get_planes(r, col, n);
     }
     r.get_array_exact(col, "body column", n);
   });
