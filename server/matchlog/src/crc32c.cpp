@@ -1,9 +1,18 @@
-// CRC-32C, slicing-by-8. Table k holds the CRC of a byte followed by k zero bytes, so eight input
-// bytes are folded with eight lookups and no carried dependency between them.
+// CRC-32C: SSE4.2's crc32 instruction where the CPU has it (checked once at run time), else
+// slicing-by-8. Table k holds the CRC of a byte followed by k zero bytes, so eight input bytes are
+// folded with eight lookups and no carried dependency between them. Why both: opening a log checks
+// every record's CRC, and the table is a third of opening a long log; the instruction is several
+// times faster and computes exactly the same CRC, while the table keeps one binary running on any
+// x86-64 or ARM machine.
 #include "throng/matchlog/crc32c.h"
 
 #include <array>
 #include <cstring>
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <nmmintrin.h>
+#define THRONG_CRC32C_SSE42 1
+#endif
 
 namespace throng::matchlog {
 namespace {
@@ -33,9 +42,37 @@ inline std::uint32_t load_le32(const std::uint8_t* p) {
          static_cast<std::uint32_t>(p[2]) << 16 | static_cast<std::uint32_t>(p[3]) << 24;
 }
 
+#if defined(THRONG_CRC32C_SSE42)
+__attribute__((target("sse4.2"))) std::uint32_t crc32c_sse42(std::uint32_t crc, const std::uint8_t* p, std::size_t size) {
+  std::uint64_t c = ~crc;
+  while (size >= 8) {
+    std::uint64_t v = 0;
+    std::memcpy(&v, p, 8);  // the instruction reads the bytes in memory order, as the table does
+    c = _mm_crc32_u64(c, v);
+    p += 8;
+    size -= 8;
+  }
+  auto c32 = static_cast<std::uint32_t>(c);
+  while (size-- > 0) c32 = _mm_crc32_u8(c32, *p++);
+  return ~c32;
+}
+
+bool cpu_has_sse42() {
+  static const bool has = __builtin_cpu_supports("sse4.2");
+  return has;
+}
+#endif
+
 }  // namespace
 
 std::uint32_t crc32c_update(std::uint32_t crc, const void* data, std::size_t size) {
+#if defined(THRONG_CRC32C_SSE42)
+  if (cpu_has_sse42()) return crc32c_sse42(crc, static_cast<const std::uint8_t*>(data), size);
+#endif
+  return detail::crc32c_update_table(crc, data, size);
+}
+
+std::uint32_t detail::crc32c_update_table(std::uint32_t crc, const void* data, std::size_t size) {
   const auto* p = static_cast<const std::uint8_t*>(data);
   std::uint32_t c = ~crc;
   while (size >= 8) {
