@@ -418,8 +418,6 @@ TEST_F(MatchCheckpointErrors, CorruptedBytesFailCleanly) {
   expect_error(target, bad, "bodies");
 }
 
-// Found by fuzzing (tests/fuzz match_checkpoint): an NPC AI section naming a body the world
-// section does not hold was accepted, and the next tick threw from World::set_desired_velocity.
 // Version 4 writes the NPC AI compact (server/match/src/npc_ai.h): no ids, and a formation slot
 // still at its spawn value as a flag. The entity that changed faction at tick 45 was regrouped and
 // keeps a slot of its own. Version 3 of the same state holds the same match: restored, either saves
@@ -489,6 +487,8 @@ TEST_F(MatchCheckpointErrors, CompactAiSlotFlagsAreChecked) {
   target.tick(out);
 }
 
+// Found by fuzzing (tests/fuzz match_checkpoint): an NPC AI section naming a body the world
+// section does not hold was accepted, and the next tick threw from World::set_desired_velocity.
 TEST_F(MatchCheckpointErrors, AiDrivingAnotherBodyIsRefused) {
   // Version 3 (the AI with its ids): a u32 count then every body's id (here in the world's dense
   // order), in the match section (the world section holds the same list: search only there).

@@ -45,19 +45,23 @@ struct LogPlayer::Impl {
     }
     // The keyframe tick's own record (its logged hash), leaving the reader at the next tick.
     reader.seek(k.tick);
-    if (!reader.next(rec) || rec.tick != k.tick)
-      throw LogError(fmt::format("{}: tick {} is not readable although the scan listed it", reader.path(), k.tick));
+    read_record(k.tick);
     matched = true;
     return true;
   }
 
   bool step() {
     if (sim->tick() >= last) return false;
-    if (!reader.next(rec) || rec.tick != sim->tick() + 1)
-      throw LogError(fmt::format("{}: tick {} is not readable although the scan listed it", reader.path(), sim->tick() + 1));
+    read_record(sim->tick() + 1);
     const std::uint64_t expected = rec.state_hash;
     matched = sim->step(rec) == expected;
     return true;
+  }
+
+  // The reader's next record into `rec`; it must be `tick`'s.
+  void read_record(std::uint64_t tick) {
+    if (!reader.next(rec) || rec.tick != tick)
+      throw LogError(fmt::format("{}: tick {} is not readable although the scan listed it", reader.path(), tick));
   }
 
   MatchLogReader reader;
