@@ -93,6 +93,15 @@ struct World::Impl {
     auto task = [&](std::uint32_t t) { fn(t * kBodiesPerTask, std::min(n, (t + 1) * kBodiesPerTask)); };
     run_tasks(pool.get(), tasks, task);
   }
+  // fn(begin, end) over fixed ranges of a pair list's entries, on the pool (the ranges do not depend
+  // on the thread count).
+  static constexpr std::size_t kEntriesPerTask = 16384;
+  template <class Fn>
+  void for_entry_ranges(std::size_t m, Fn&& fn) {
+    const auto tasks = static_cast<std::uint32_t>((m + kEntriesPerTask - 1) / kEntriesPerTask);
+    auto task = [&](std::uint32_t t) { fn(t * kEntriesPerTask, std::min(m, (t + 1) * kEntriesPerTask)); };
+    run_tasks(pool.get(), tasks, task);
+  }
   std::size_t warm_pairs = 0;  // pairs of this tick that start with a warm-start push
   // The second solve of a tick (World::step), and whether the first was the scheduled one.
   bool second_solve = false;
@@ -151,6 +160,7 @@ struct World::Impl {
     std::vector<double> reach;
     std::vector<double> share;         // SolverPair::share_a, recomputed when a resistance changed
     bool shares_stale = false;         // a resistance changed since the shares were computed
+    std::vector<double> resistance;    // the bodies' resistances in solver order (share scratch)
     std::vector<float> lambda;         // last tick's push (0: none kept)
     // Per entry, what its schedule slot holds apart from the push, computed once per search (and
     // the share and warm-start cap per refresh, refresh_list_shares) with the schedule's own
@@ -228,6 +238,8 @@ struct World::Impl {
   void take_list_pairs();
   void materialize_list_pairs();
   void refresh_list_shares();
+  void gather_list_resistances();
+  void set_list_share(std::size_t e);
   void schedule_list_pairs(double conflict);
   void pairs_from_list(bool gathered);  // gathered: sb already holds the bodies' positions
   bool moved_within_skin(bool restored);

@@ -184,9 +184,9 @@ bool World::Impl::search_pair_list(const double* x, const double* y, const doubl
     return false;
   }
   // Per entry what stays while the list is kept: the separation target, the margin's reach (the
-  // grid's candidate test, hier_grid.cpp scan_one: a grounded pair's height gap cannot change), and
-  // the share. The pushes are looked up in the cache by this tick's pairs_from_list (and kept only
-  // for the entries within the margin).
+  // grid's candidate test, hier_grid.cpp scan_one: a grounded pair's height gap cannot change), the
+  // schedule slot and the share. The pushes are looked up in the cache by this tick's
+  // pairs_from_list (and kept only for the entries within the margin).
   const std::size_t m = l.found.size();
   l.a.resize(m);
   l.b.resize(m);
@@ -194,22 +194,25 @@ bool World::Impl::search_pair_list(const double* x, const double* y, const doubl
   l.reach.resize(m);
   l.share.resize(m);
   l.lambda.resize(m);
-  for (std::size_t e = 0; e < m; ++e) {
-    const std::uint32_t a = l.found[e].a, b = l.found[e].b;
-    l.a[e] = a;
-    l.b[e] = b;
-    l.target[e] = pair_target(a, b);
-    const double reach = sb.r[a] + sb.r[b] + margin;
-    const double gap_z = std::fabs(sb.z[b] - sb.z[a]) - sb.hh[a] - sb.hh[b];
-    l.reach[e] = (sb.grounded[a] & sb.grounded[b]) && gap_z >= reach ? 0.0 : reach;
-  }
   l.slot.resize(m);
-  for (std::size_t e = 0; e < m; ++e) {
-    const double r_min = std::min(sb.r[l.a[e]], sb.r[l.b[e]]);
-    const detail::SlotFields f = detail::slot_fields(l.a[e], l.b[e], l.target[e], 0.0, 0.0, false, r_min, 0.0f, 1.0f);
-    l.slot[e] = {f.a, f.b, f.target, 0.0f, f.inv_r_min, 0.0};  // share and warm cap: refresh_list_shares
-  }
-  refresh_list_shares();
+  gather_list_resistances();
+  for_entry_ranges(m, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t e = begin; e < end; ++e) {
+      const std::uint32_t a = l.found[e].a, b = l.found[e].b;
+      l.a[e] = a;
+      l.b[e] = b;
+      const double target = pair_target(a, b);
+      l.target[e] = target;
+      const double reach = sb.r[a] + sb.r[b] + margin;
+      const double gap_z = std::fabs(sb.z[b] - sb.z[a]) - sb.hh[a] - sb.hh[b];
+      l.reach[e] = (sb.grounded[a] & sb.grounded[b]) && gap_z >= reach ? 0.0 : reach;
+      const double r_min = std::min(sb.r[a], sb.r[b]);
+      const detail::SlotFields f = detail::slot_fields(a, b, target, 0.0, 0.0, false, r_min, 0.0f, 1.0f);
+      l.slot[e] = {f.a, f.b, f.target, 0.0f, f.inv_r_min, 0.0};
+      set_list_share(e);
+    }
+  });
+  l.shares_stale = false;
   l.all_fast = std::all_of(l.target.begin(), l.target.end(), [](double t) { return t >= 0.0; });
   l.fresh = true;
   l.x = sb.x;
@@ -218,16 +221,33 @@ bool World::Impl::search_pair_list(const double* x, const double* y, const doubl
   return true;
 }
 
-// The entries' shares from the resistances (the list is kept only where nothing else enters one),
-// and their warm-start caps.
-void World::Impl::refresh_list_shares() {
+// The bodies' resistances in solver order, for the entries' shares: one sequential read per entry's
+// body instead of a gather through solver_order (the entries' bodies are scattered within a band).
+void World::Impl::gather_list_resistances() {
+  const std::size_t n = solver_order.size();
+  list.resistance.resize(n);
+  for_body_ranges(n, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t s = begin; s < end; ++s) list.resistance[s] = bodies.resistance[solver_order[s]];
+  });
+}
+
+// Entry e's share from the resistances (the list is kept only where nothing else enters one) and
+// its warm-start cap.
+void World::Impl::set_list_share(std::size_t e) {
   PairList& l = list;
-  for (std::size_t e = 0; e < l.a.size(); ++e) {
-    l.share[e] = params::share_a_fast(bodies.resistance[solver_order[l.a[e]]], bodies.resistance[solver_order[l.b[e]]]);
-    l.slot[e].share = static_cast<float>(l.share[e]);
-    l.slot[e].warm_cap = detail::fast_warm_cap(std::min(sb.r[l.a[e]], sb.r[l.b[e]]));
-  }
-  l.shares_stale = false;
+  const std::uint32_t a = l.a[e], b = l.b[e];
+  l.share[e] = params::share_a_fast(l.resistance[a], l.resistance[b]);
+  l.slot[e].share = static_cast<float>(l.share[e]);
+  l.slot[e].warm_cap = detail::fast_warm_cap(std::min(sb.r[a], sb.r[b]));
+}
+
+// The entries' shares again after a resistance changed.
+void World::Impl::refresh_list_shares() {
+  gather_list_resistances();
+  for_entry_ranges(list.a.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t e = begin; e < end; ++e) set_list_share(e);
+  });
+  list.shares_stale = false;
 }
 
 World::Impl::ListRecord World::Impl::list_record() const {
@@ -249,7 +269,6 @@ void World::Impl::take_list_pairs() {
   std::uint32_t* of_pair = l.of_pair.data();
   // Fixed ranges of entries, each compacted on its own and then moved to where the earlier ranges'
   // taken entries end: the same list for any number of threads.
-  constexpr std::size_t kEntriesPerTask = 16384;
   const auto tasks = static_cast<std::uint32_t>((m + kEntriesPerTask - 1) / kEntriesPerTask);
   l.range_taken.resize(tasks + 1);
   l.range_warm.resize(tasks);
