@@ -3,12 +3,18 @@
 // snapshot client keeps a record per object index (tens of thousands of bytes per client), and a
 // match restored from a checkpoint creates all its clients at once: zero-filling their arrays with
 // std::vector page-faulted and cleared every page, half of a seek's first re-simulated tick. A
-// large calloc maps fresh zero pages lazily, so only the records a client actually sees cost.
-#include <algorithm>
+// fresh anonymous mapping is zero pages until written, so only the records a client actually sees
+// cost.
+//
+// Why mmap and not calloc: glibc serves a large calloc from a mapping only until the first such
+// block is freed, then raises its mapping threshold above that size, and later clients' arrays come
+// from the heap, where calloc clears every byte and a departed client's hole outlives it (a server
+// whose clients come and go for hours grows). A mapping of its own is zero without clearing and
+// goes back to the kernel whole when the client leaves.
+#include <sys/mman.h>
+#include <unistd.h>
+
 #include <cstddef>
-#include <cstdint>
-#include <cstdlib>
-#include <cstring>
 #include <new>
 #include <type_traits>
 #include <utility>
@@ -16,10 +22,10 @@
 namespace throng::match::detail {
 
 // T must be trivially copyable and its all-zero bytes must be its default state (the records'
-// defaults are all zero); the storage is aligned to alignof(T).
+// defaults are all zero).
 template <class T>
 class LazyZeroArray {
-  static_assert(std::is_trivially_copyable_v<T>, "records are moved with memcpy");
+  static_assert(std::is_trivially_copyable_v<T>, "records are moved by remapping their pages");
 
  public:
   LazyZeroArray() = default;
@@ -30,19 +36,23 @@ class LazyZeroArray {
     LazyZeroArray(std::move(o)).swap(*this);
     return *this;
   }
-  ~LazyZeroArray() { std::free(raw_); }
+  ~LazyZeroArray() {
+    if (data_ != nullptr) munmap(data_, mapped_);
+  }
 
-  // Grows to n records, keeping the first size() and zeroing the rest; never shrinks.
+  // Grows to n records, keeping the first size() and zeroing the rest; never shrinks. The bytes past
+  // the records in the mapping's last page were never written, so they are still zero.
   void grow_to(std::size_t n) {
     if (n <= size_) return;
-    void* raw = std::calloc(n * sizeof(T) + alignof(T), 1);
-    if (raw == nullptr) throw std::bad_alloc();
-    const auto at = (reinterpret_cast<std::uintptr_t>(raw) + alignof(T) - 1) & ~(std::uintptr_t{alignof(T)} - 1);
-    T* data = reinterpret_cast<T*>(at);
-    if (size_ > 0) std::memcpy(static_cast<void*>(data), static_cast<const void*>(data_), size_ * sizeof(T));
-    std::free(raw_);
-    raw_ = raw;
-    data_ = data;
+    if (n > max_records()) throw std::bad_alloc();
+    const std::size_t bytes = page_round(n * sizeof(T));
+    if (bytes > mapped_) {
+      void* p = data_ == nullptr ? mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0)
+                                 : mremap(data_, mapped_, bytes, MREMAP_MAYMOVE);  // keeps the records, zero tail
+      if (p == MAP_FAILED) throw std::bad_alloc();
+      data_ = static_cast<T*>(p);
+      mapped_ = bytes;
+    }
     size_ = n;
   }
 
@@ -55,15 +65,20 @@ class LazyZeroArray {
   T* end() { return data_ + size_; }
 
  private:
+  static std::size_t max_records() { return (std::size_t{1} << 40) / sizeof(T); }
+  static std::size_t page_round(std::size_t bytes) {
+    const auto page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+    return (bytes + page - 1) / page * page;
+  }
   void swap(LazyZeroArray& o) noexcept {
-    std::swap(raw_, o.raw_);
     std::swap(data_, o.data_);
     std::swap(size_, o.size_);
+    std::swap(mapped_, o.mapped_);
   }
 
-  void* raw_ = nullptr;
-  T* data_ = nullptr;
+  T* data_ = nullptr;   // page-aligned (alignof(T) is far smaller)
   std::size_t size_ = 0;
+  std::size_t mapped_ = 0;  // bytes mapped, a whole number of pages
 };
 
 }  // namespace throng::match::detail
