@@ -1,0 +1,184 @@
+// MatchFollower (follower.h): a match kept in step with a primary from its tick entries and
+// checkpoints, checked against a recorded match (play_match: joins, commands good and bad, operator
+// changes, a leave, a shutdown).
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "matchlog_test_util.h"
+#include "throng/matchlog/follower.h"
+#include "throng/matchlog/format.h"
+
+namespace throng::matchlog {
+namespace {
+using namespace test;
+
+std::vector<std::uint8_t> entry_of(const TickRecord& t) {
+  std::vector<std::uint8_t> bytes;
+  encode_tick(t.tick, t.inputs, t.state_hash, t.flags, bytes);
+  return bytes;
+}
+
+const PlayedMatch& played() {
+  static const PlayedMatch p = play_match(150);
+  return p;
+}
+
+// The checkpoint saved after tick t (t a multiple of 15), with snapshot baselines.
+std::span<const std::uint8_t> checkpoint_after(std::uint64_t t) { return played().keyframes.at(t / 15 - 1); }
+
+void feed(MatchFollower& f, std::uint64_t from, std::uint64_t to) {
+  for (std::uint64_t t = from; t <= to; ++t) f.on_tick_entry(entry_of(played().ticks.at(t - 1)));
+}
+
+TEST(MatchFollower, StartedWithThePrimaryFollowsEveryTickWithoutACheckpoint) {
+  MatchFollower f(match_header());
+  EXPECT_EQ(f.state(), FollowState::following);
+  for (std::uint64_t t = 1; t <= 150; ++t) {
+    f.on_tick_entry(entry_of(played().ticks[t - 1]));
+    ASSERT_EQ(f.tick(), t);
+    ASSERT_EQ(f.match().state_hash(), played().ticks[t - 1].state_hash) << "tick " << t;
+  }
+  EXPECT_EQ(f.state(), FollowState::following);
+  EXPECT_EQ(f.stats().applied, 150u);
+  EXPECT_EQ(f.stats().mismatches, 0u);
+  EXPECT_EQ(f.stats().checkpoints, 0u);
+}
+
+TEST(MatchFollower, StartedLateAsksForACheckpointAndAppliesWhatItHeld) {
+  MatchFollower f(match_header());
+  feed(f, 31, 47);  // joined the stream at tick 31: nothing can be applied yet
+  EXPECT_EQ(f.state(), FollowState::needs_checkpoint);
+  EXPECT_EQ(f.tick(), 0u);
+  EXPECT_EQ(f.held(), 17u);
+  EXPECT_EQ(f.stats().gaps, 1u);
+  f.on_checkpoint(checkpoint_after(30));  // the answer to its request, saved after tick 30
+  EXPECT_EQ(f.state(), FollowState::following);
+  EXPECT_EQ(f.tick(), 47u);
+  EXPECT_EQ(f.held(), 0u);
+  EXPECT_EQ(f.match().state_hash(), played().ticks[46].state_hash);
+  feed(f, 48, 150);
+  EXPECT_EQ(f.tick(), 150u);
+  EXPECT_EQ(f.match().state_hash(), played().ticks[149].state_hash);
+  EXPECT_EQ(f.stats().applied, 150u - 30u);
+  EXPECT_EQ(f.stats().mismatches, 0u);
+}
+
+TEST(MatchFollower, ACheckpointAheadOfTheHeldEntriesDropsThoseItCovers) {
+  MatchFollower f(match_header());
+  feed(f, 20, 50);
+  f.on_checkpoint(checkpoint_after(45));
+  EXPECT_EQ(f.tick(), 50u);
+  EXPECT_EQ(f.state(), FollowState::following);
+  EXPECT_EQ(f.stats().stale_entries, 26u);  // ticks 20..45 were in the checkpoint
+  EXPECT_EQ(f.stats().applied, 5u);
+  EXPECT_EQ(f.match().state_hash(), played().ticks[49].state_hash);
+}
+
+TEST(MatchFollower, RepeatedAndOldEntriesChangeNothing) {
+  MatchFollower f(match_header());
+  feed(f, 1, 40);
+  const std::uint64_t hash = f.match().state_hash();
+  feed(f, 30, 40);  // a writer that resent its history
+  EXPECT_EQ(f.tick(), 40u);
+  EXPECT_EQ(f.match().state_hash(), hash);
+  EXPECT_EQ(f.stats().stale_entries, 11u);
+  EXPECT_EQ(f.state(), FollowState::following);
+}
+
+TEST(MatchFollower, AMissingTickStopsItUntilTheTickOrACheckpointComes) {
+  MatchFollower f(match_header());
+  feed(f, 1, 20);
+  feed(f, 22, 25);  // 21 lost
+  EXPECT_EQ(f.tick(), 20u);
+  EXPECT_EQ(f.state(), FollowState::needs_checkpoint);
+  EXPECT_EQ(f.stats().gaps, 1u);
+  feed(f, 21, 21);  // it arrived after all: applied, and the held ones after it
+  EXPECT_EQ(f.tick(), 25u);
+  EXPECT_EQ(f.state(), FollowState::following);
+  feed(f, 27, 33);  // 26 lost for good
+  EXPECT_EQ(f.stats().gaps, 2u);
+  EXPECT_EQ(f.tick(), 25u);
+  f.on_checkpoint(checkpoint_after(30));
+  EXPECT_EQ(f.tick(), 33u);
+  EXPECT_EQ(f.state(), FollowState::following);
+  EXPECT_EQ(f.match().state_hash(), played().ticks[32].state_hash);
+}
+
+TEST(MatchFollower, ADivergentTickIsNamedAndAFreshCheckpointResynchronises) {
+  MatchFollower f(match_header());
+  feed(f, 1, 39);
+  // Tick 40 as a primary would have sent it had its match gone another way: the operator's weight
+  // change is missing, so the recomputed state differs from the hash it carries.
+  TickRecord altered = played().ticks[39];
+  ASSERT_FALSE(altered.inputs.params.empty());
+  altered.inputs.params.clear();
+  f.on_tick_entry(entry_of(altered));
+  EXPECT_EQ(f.tick(), 40u);
+  EXPECT_EQ(f.stats().mismatches, 1u);
+  EXPECT_EQ(f.stats().first_mismatch_tick, 40u);
+  EXPECT_EQ(f.state(), FollowState::needs_checkpoint);
+  EXPECT_NE(f.match().state_hash(), played().ticks[39].state_hash);
+  feed(f, 41, 50);  // held, not applied to a match that is not the primary's
+  EXPECT_EQ(f.tick(), 40u);
+  EXPECT_EQ(f.held(), 10u);
+  f.on_checkpoint(checkpoint_after(45));
+  EXPECT_EQ(f.state(), FollowState::following);
+  EXPECT_EQ(f.tick(), 50u);
+  EXPECT_EQ(f.match().state_hash(), played().ticks[49].state_hash);
+  EXPECT_EQ(f.stats().mismatches, 1u);
+}
+
+TEST(MatchFollower, AnOlderCheckpointIsIgnoredWhileFollowing) {
+  MatchFollower f(match_header());
+  feed(f, 1, 50);
+  f.on_checkpoint(checkpoint_after(30));
+  EXPECT_EQ(f.tick(), 50u);
+  EXPECT_EQ(f.stats().stale_checkpoints, 1u);
+  EXPECT_EQ(f.stats().checkpoints, 0u);
+  feed(f, 51, 60);
+  EXPECT_EQ(f.match().state_hash(), played().ticks[59].state_hash);
+}
+
+TEST(MatchFollower, BadBytesAreRefusedWithNothingChanged) {
+  MatchFollower f(match_header());
+  feed(f, 1, 20);
+  const std::vector<std::uint8_t> good = entry_of(played().ticks[20]);
+  std::vector<std::uint8_t> truncated(good.begin(), good.end() - 1);
+  EXPECT_THROW(f.on_tick_entry(truncated), LogError);
+  std::vector<std::uint8_t> two = good;
+  two.insert(two.end(), good.begin(), good.end());
+  EXPECT_THROW(f.on_tick_entry(two), LogError);
+  EXPECT_THROW(f.on_tick_entry(entry_of(TickRecord{})), LogError);  // tick 0
+  EXPECT_THROW(f.on_tick_entry({}), LogError);
+  EXPECT_EQ(f.tick(), 20u);
+  EXPECT_EQ(f.held(), 0u);
+
+  std::vector<std::uint8_t> damaged(checkpoint_after(45).begin(), checkpoint_after(45).end());
+  damaged.resize(damaged.size() / 2);
+  EXPECT_ANY_THROW(f.on_checkpoint(damaged));
+  EXPECT_THROW(f.on_checkpoint(std::vector<std::uint8_t>{1, 2, 3}), match::CheckpointError);
+  EXPECT_EQ(f.tick(), 20u);
+  EXPECT_EQ(f.state(), FollowState::following);
+  f.on_tick_entry(good);  // still follows
+  EXPECT_EQ(f.tick(), 21u);
+  EXPECT_EQ(f.match().state_hash(), played().ticks[20].state_hash);
+}
+
+TEST(MatchFollower, HoldsAtMostItsLimitKeepingTheNewest) {
+  MatchFollower f(match_header(), FollowerOptions{.max_held_ticks = 8});
+  feed(f, 11, 30);
+  EXPECT_EQ(f.held(), 8u);
+  EXPECT_EQ(f.stats().held_dropped, 12u);
+  f.on_checkpoint(checkpoint_after(15));  // ticks 16..22 were dropped: still short of the held 23..30
+  EXPECT_EQ(f.tick(), 15u);
+  EXPECT_EQ(f.state(), FollowState::needs_checkpoint);
+  f.on_checkpoint(checkpoint_after(30));
+  EXPECT_EQ(f.tick(), 30u);
+  EXPECT_EQ(f.state(), FollowState::following);
+  EXPECT_EQ(f.held(), 0u);
+}
+
+}  // namespace
+}  // namespace throng::matchlog
