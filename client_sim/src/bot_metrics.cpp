@@ -1,5 +1,7 @@
 #include "throng/client_sim/bot_metrics.h"
 
+#include <algorithm>
+
 namespace throng::client_sim {
 
 namespace {
@@ -31,7 +33,11 @@ void BotMetrics::on_snapshot_received(std::uint64_t tick, std::size_t wire_bytes
     ++snapshots_.out_of_order;
     return;
   }
-  if (newest_tick_ && tick > *newest_tick_ + 1) snapshots_.missed_ticks += tick - *newest_tick_ - 1;
+  if (newest_tick_ && tick > *newest_tick_ + 1) {
+    const std::uint64_t missed = tick - *newest_tick_ - 1;
+    snapshots_.missed_ticks += missed;
+    snapshots_.longest_gap_ticks = std::max(snapshots_.longest_gap_ticks, missed);
+  }
   newest_tick_ = tick;
 }
 

@@ -40,6 +40,7 @@ Aggregate aggregate(const RunReport& report) {
     latency.append(b.latency_ms);
     interarrival.append(b.interarrival_ms);
     a.gap_ticks += b.snapshots.missed_ticks;
+    a.longest_gap_ticks = std::max(a.longest_gap_ticks, b.snapshots.longest_gap_ticks);
     a.out_of_order += b.snapshots.out_of_order;
     a.decode_errors += b.decode_errors;
     a.snapshots += b.snapshots.samples;
@@ -95,6 +96,7 @@ nlohmann::json to_json(const BotReport& b) {
                        {{"received", b.snapshots.samples},
                         {"bytes", b.snapshots.bytes},
                         {"gap_ticks", b.snapshots.missed_ticks},
+                        {"longest_gap_ticks", b.snapshots.longest_gap_ticks},
                         {"out_of_order", b.snapshots.out_of_order},
                         {"decode_errors", b.decode_errors}}},
                       {"last_applied_sequence", b.last_applied_sequence},
@@ -126,6 +128,7 @@ nlohmann::json to_json(const RunReport& r) {
       {"latency_ms", summary_json(a.latency_ms)},
       {"snapshot_interarrival_ms", summary_json(a.interarrival_ms)},
       {"snapshot_gap_ticks", a.gap_ticks},
+      {"max_snapshot_gap_ticks", a.longest_gap_ticks},
       {"snapshots",
        {{"received", a.snapshots},
         {"bytes", a.bytes},
@@ -157,9 +160,10 @@ std::string to_text(const RunReport& r) {
   s += fmt::format("  commands          {} sent, {} applied (expected: {} accept, {} reject, {} either)\n",
                    a.commands.sent, a.commands.applied, a.commands.expect_accept, a.commands.expect_reject,
                    a.commands.expect_unknown);
-  s += fmt::format("  snapshots         {} received, {:.1f}/s per client, {} missed ticks, {} out of order, {} "
-                   "malformed\n",
-                   a.snapshots, a.snapshots_per_s_per_client, a.gap_ticks, a.out_of_order, a.decode_errors);
+  s += fmt::format("  snapshots         {} received, {:.1f}/s per client, {} missed ticks (at most {} in a row), {} "
+                   "out of order, {} malformed\n",
+                   a.snapshots, a.snapshots_per_s_per_client, a.gap_ticks, a.longest_gap_ticks, a.out_of_order,
+                   a.decode_errors);
   s += fmt::format("  inter-arrival     p50 {:.1f} ms  p90 {:.1f} ms  p99 {:.1f} ms  max {:.1f} ms\n",
                    a.interarrival_ms.p50, a.interarrival_ms.p90, a.interarrival_ms.p99, a.interarrival_ms.max);
   s += fmt::format("  bandwidth         {:.1f} kbit/s per client (max {:.1f}), {:.2f} MB total\n", a.kbit_per_s_mean,

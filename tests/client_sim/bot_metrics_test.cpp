@@ -54,6 +54,7 @@ TEST(BotMetrics, GapsInterArrivalAndBytes) {
   EXPECT_EQ(m.snapshots().samples, 5u);
   EXPECT_EQ(m.snapshots().bytes, 320u);
   EXPECT_EQ(m.snapshots().missed_ticks, 7u);
+  EXPECT_EQ(m.snapshots().longest_gap_ticks, 5u);  // 105..109, not the sum
   EXPECT_EQ(m.snapshots().out_of_order, 1u);
   ASSERT_EQ(m.interarrival_ms().size(), 4u);
   EXPECT_NEAR(m.interarrival_ms().values()[0], 33.0, 1e-6);

@@ -31,6 +31,8 @@ TEST(Report, AggregatesKnownInputs) {
   r.behavior = "wander";
   r.bots.push_back(bot("a", 1, 100));   // latencies 1..50
   r.bots.push_back(bot("b", 51, 300));  // latencies 51..100
+  r.bots[0].snapshots.longest_gap_ticks = 2;
+  r.bots[1].snapshots.longest_gap_ticks = 1;
   BotReport failed;
   failed.name = "c";
   failed.state = "timed_out";
@@ -45,6 +47,7 @@ TEST(Report, AggregatesKnownInputs) {
   EXPECT_DOUBLE_EQ(a.latency_ms.p99, 99);
   EXPECT_DOUBLE_EQ(a.latency_ms.max, 100);
   EXPECT_EQ(a.gap_ticks, 4u);
+  EXPECT_EQ(a.longest_gap_ticks, 2u);  // the longest at any bot, not a sum
   EXPECT_NEAR(a.kbit_per_s_mean, 200, 1e-9);
   EXPECT_NEAR(a.kbit_per_s_max, 300, 1e-9);
   EXPECT_DOUBLE_EQ(a.join_ms.p50, 10);
@@ -61,6 +64,8 @@ TEST(Report, AggregatesKnownInputs) {
   EXPECT_DOUBLE_EQ(j["latency_ms"]["p99"].get<double>(), 99);
   EXPECT_DOUBLE_EQ(j["latency_ms"]["max"].get<double>(), 100);
   EXPECT_EQ(j["snapshot_gap_ticks"], 4);
+  EXPECT_EQ(j["max_snapshot_gap_ticks"], 2);
+  EXPECT_EQ(j["per_client"][0]["snapshots"]["longest_gap_ticks"], 2);
   EXPECT_NEAR(j["kbit_per_s_per_client"]["mean"].get<double>(), 200, 1e-9);
   EXPECT_NEAR(j["kbit_per_s_per_client"]["max"].get<double>(), 300, 1e-9);
   EXPECT_DOUBLE_EQ(j["join_ms"]["p50"].get<double>(), 10);

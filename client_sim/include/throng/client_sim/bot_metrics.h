@@ -35,6 +35,9 @@ struct SnapshotCounts {
   std::uint64_t samples = 0;
   std::uint64_t bytes = 0;
   std::uint64_t missed_ticks = 0;
+  // The most ticks missed in a row: what a player saw freeze (a server that stalled or was
+  // replaced), where missed_ticks also sums scattered single losses.
+  std::uint64_t longest_gap_ticks = 0;
   std::uint64_t out_of_order = 0;  // tick not newer than the newest seen (dropped)
 };
 

@@ -58,6 +58,7 @@ struct Aggregate {
   std::size_t clients = 0, joined = 0, join_failed = 0;
   Summary latency_ms, interarrival_ms, join_ms;
   std::uint64_t gap_ticks = 0, out_of_order = 0, decode_errors = 0;
+  std::uint64_t longest_gap_ticks = 0;  // the longest run of missed ticks at any bot
   std::uint64_t snapshots = 0, bytes = 0;
   double snapshots_per_s_per_client = 0;
   double kbit_per_s_mean = 0, kbit_per_s_max = 0;  // over bots that received snapshots
