@@ -84,24 +84,21 @@ struct World::Impl {
   std::vector<detail::SolverPair> pairs;
   detail::PairSchedule pair_schedule;
   std::unique_ptr<WorkerPool> pool;  // WorldSettings::threads > 1
-  // fn(begin, end) over [0, n) in fixed ranges, on the pool's threads if there is one: for passes
-  // in which every body is on its own (the same bits however the ranges are shared out).
+  // fn(begin, end) over [0, n) in fixed ranges of kPerTask, on the pool's threads if there is one:
+  // for passes in which every item (a body, a pair list's entry) is on its own (the same bits
+  // however the ranges are shared out: the ranges do not depend on the thread count).
   static constexpr std::size_t kBodiesPerTask = 16384;
-  template <class Fn>
-  void for_body_ranges(std::size_t n, Fn&& fn) {
-    const auto tasks = static_cast<std::uint32_t>((n + kBodiesPerTask - 1) / kBodiesPerTask);
-    auto task = [&](std::uint32_t t) { fn(t * kBodiesPerTask, std::min(n, (t + 1) * kBodiesPerTask)); };
-    run_tasks(pool.get(), tasks, task);
-  }
-  // fn(begin, end) over fixed ranges of a pair list's entries, on the pool (the ranges do not depend
-  // on the thread count).
   static constexpr std::size_t kEntriesPerTask = 16384;
-  template <class Fn>
-  void for_entry_ranges(std::size_t m, Fn&& fn) {
-    const auto tasks = static_cast<std::uint32_t>((m + kEntriesPerTask - 1) / kEntriesPerTask);
-    auto task = [&](std::uint32_t t) { fn(t * kEntriesPerTask, std::min(m, (t + 1) * kEntriesPerTask)); };
+  template <std::size_t kPerTask, class Fn>
+  void for_fixed_ranges(std::size_t n, Fn&& fn) {
+    const auto tasks = static_cast<std::uint32_t>((n + kPerTask - 1) / kPerTask);
+    auto task = [&](std::uint32_t t) { fn(t * kPerTask, std::min(n, (t + 1) * kPerTask)); };
     run_tasks(pool.get(), tasks, task);
   }
+  template <class Fn>
+  void for_body_ranges(std::size_t n, Fn&& fn) { for_fixed_ranges<kBodiesPerTask>(n, fn); }
+  template <class Fn>
+  void for_entry_ranges(std::size_t m, Fn&& fn) { for_fixed_ranges<kEntriesPerTask>(m, fn); }
   std::size_t warm_pairs = 0;  // pairs of this tick that start with a warm-start push
   // The second solve of a tick (World::step), and whether the first was the scheduled one.
   bool second_solve = false;
