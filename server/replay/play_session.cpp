@@ -46,6 +46,7 @@ void PlaySession::start() {
         if (inbox_.params.size() < kInboxCap) inbox_.params.push_back(std::move(u));
         else ++inbox_.dropped;
       },
+      {},  // a replay feeds no hot standby
   });
   transport_.publish_match_info(player_.match().match_info());
 }

@@ -173,6 +173,7 @@ TEST(ServerProcess, BadCommandLinesAreRejectedWithAClearMessage) {
       {{"--listen", "tcp://0.0.0.0"}, "host and port are both needed"},
       {{"--listen", "udp://0.0.0.0:7400"}, "must start with tcp://"},
       {{"--public-address", "10.0.0.1"}, "needs --listen"},
+      {{"--standby", "--listen", "tcp://0.0.0.0:7400"}, "does not run over --listen"},
       {{"--listen", "tcp://127.0.0.1:7400"}, "listen on 0.0.0.0"},
       {{"--scene", "/no/such/scene.json"}, "neither a built-in scene"},
       {{"--bogus"}, "bogus"},

@@ -14,6 +14,7 @@
 
 #include "server_test_support.h"
 #include "throng/protocol/security.h"
+#include "throng/server/standby_server.h"
 
 namespace throng::test {
 namespace {
@@ -133,6 +134,35 @@ TEST(SecureMatch, PlayersAreConfinedToTheirOwnClientAndPartitionAndOnlyOperators
   EXPECT_EQ(summary["joins_foreign_participant"], 1);
   EXPECT_EQ(summary["clients_connected_at_end"], 2);
   EXPECT_EQ(summary["param_updates_not_operator"], 0);
+}
+
+// The hot standby's topics carry every player's commands and the whole match: only the server
+// identity holds them. A player or the bot fleet cannot even create a standby's endpoints; a
+// standby with the server identity follows the secured match.
+TEST(SecureMatch, OnlyTheServerIdentityCanFollowAsAHotStandby) {
+  const Pki& p = pki_dirs();
+  auto options = small_server_options(163);
+  options.security_dir = p.dir.string();
+  ServerThread primary(options);
+  EXPECT_THROW(protocol::StandbyTransport(secure(163, "alice", p.dir, "alice-standby")), protocol::TransportError);
+  EXPECT_THROW(protocol::StandbyTransport(secure(163, protocol::kBotsIdentity, p.dir, "bots-standby")),
+               protocol::TransportError);
+
+  auto so = options;
+  so.standby = true;
+  so.duration_s = 30.0;  // a bound; stopped below once it follows
+  server::StandbyServer standby(so);
+  std::thread follow([&] { standby.run(false); });
+  bool followed = false;
+  for (auto deadline = std::chrono::steady_clock::now() + 25s; !followed && std::chrono::steady_clock::now() < deadline;
+       std::this_thread::sleep_for(20ms)) {
+    const server::StandbyStatus st = standby.status();
+    followed = st.synced && st.following && st.follower.applied >= 30;
+  }
+  standby.request_stop();
+  follow.join();
+  EXPECT_TRUE(followed) << standby.summary().dump(2);
+  EXPECT_EQ(standby.summary()["mismatches"], 0u);
 }
 
 TEST(SecureMatch, ExpiredCertificatesTamperedPermissionsAndForeignCasAreRefused) {

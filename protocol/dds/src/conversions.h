@@ -17,6 +17,9 @@ v1::ParamUpdate to_idl(const ParamUpdate& m);
 v1::ParamReply to_idl(const ParamReply& m);
 v1::ServerStats to_idl(const ServerStats& m);
 v1::ContactPairs to_idl(const ContactPairs& m);
+v1::TickEntry to_idl(const TickEntry& m);
+v1::StandbyRequest to_idl(const StandbyRequest& m);
+v1::StandbySync to_idl(const StandbySync& m);
 
 JoinRequest from_idl(v1::JoinRequest&& s);
 JoinReply from_idl(v1::JoinReply&& s);
@@ -27,5 +30,8 @@ ParamUpdate from_idl(v1::ParamUpdate&& s);
 ParamReply from_idl(v1::ParamReply&& s);
 ServerStats from_idl(v1::ServerStats&& s);
 ContactPairs from_idl(v1::ContactPairs&& s);
+TickEntry from_idl(v1::TickEntry&& s);
+StandbyRequest from_idl(v1::StandbyRequest&& s);
+StandbySync from_idl(v1::StandbySync&& s);
 
 }  // namespace throng::protocol::dds_detail

@@ -93,6 +93,10 @@ class MatchCounter final : public eprosima::fastdds::dds::DataWriterListener {
     std::unique_lock<std::mutex> lock(mutex_);
     return changed_.wait_until(lock, deadline, [this] { return matched_ > 0; });
   }
+  int matched() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return matched_;
+  }
 
  private:
   std::mutex mutex_;

@@ -118,6 +118,14 @@ Participant::Participant(const TransportOptions& options)
 
 Participant::~Participant() { destroy(participant_); }
 
+void Participant::create_standby_topics() {
+  if (topics_.tick_inputs != nullptr) return;
+  const std::string w = where();
+  topics_.tick_inputs = make_topic<v1::TickEntryPubSubType>(*participant_, kTopicTickInputs, w);
+  topics_.standby_request = make_topic<v1::StandbyRequestPubSubType>(*participant_, kTopicStandbyRequest, w);
+  topics_.standby_sync = make_topic<v1::StandbySyncPubSubType>(*participant_, kTopicStandbySync, w);
+}
+
 std::string Participant::identity_of(const ParticipantKey& key) const { return identities_->identity_of(key); }
 
 std::string Participant::where() const { return "domain " + std::to_string(domain_id_) + ": "; }

@@ -34,6 +34,11 @@ struct Topics {
   eprosima::fastdds::dds::Topic* param_reply = nullptr;
   eprosima::fastdds::dds::Topic* server_stats = nullptr;
   eprosima::fastdds::dds::Topic* contacts = nullptr;
+  // Server to server only (a hot standby), created by create_standby_topics(): under DDS Security
+  // a client's permissions do not grant them, and creating a topic it may not use would fail.
+  eprosima::fastdds::dds::Topic* tick_inputs = nullptr;
+  eprosima::fastdds::dds::Topic* standby_request = nullptr;
+  eprosima::fastdds::dds::Topic* standby_sync = nullptr;
 };
 
 // Remembers the authenticated identity of each remote participant (DDS Security only): Fast DDS
@@ -71,6 +76,8 @@ class Participant {
   Participant& operator=(const Participant&) = delete;
 
   const Topics& topics() const { return topics_; }
+  // Creates the server-to-server topics (Topics::tick_inputs ...); a second call does nothing.
+  void create_standby_topics();
   eprosima::fastdds::dds::DomainParticipant& dds() { return *participant_; }
 
   // The participant's shared publisher/subscriber (default partition).

@@ -28,6 +28,9 @@ inline constexpr TopicProfiles kParamProfiles{"throng_param_writer", "throng_par
 inline constexpr TopicProfiles kParamReplyProfiles{"throng_param_reply_writer", "throng_param_reply_reader"};
 inline constexpr TopicProfiles kServerStatsProfiles{"throng_server_stats_writer", "throng_server_stats_reader"};
 inline constexpr TopicProfiles kContactsProfiles{"throng_contacts_writer", "throng_contacts_reader"};
+inline constexpr TopicProfiles kTickInputsProfiles{"throng_tick_inputs_writer", "throng_tick_inputs_reader"};
+inline constexpr TopicProfiles kStandbyRequestProfiles{"throng_standby_request_writer", "throng_standby_request_reader"};
+inline constexpr TopicProfiles kStandbySyncProfiles{"throng_standby_sync_writer", "throng_standby_sync_reader"};
 inline constexpr const char* kLoopbackParticipantProfile = "throng_loopback_participant";
 
 inline constexpr int kMaxDomainId = 232;  // RTPS port mapping limit with Fast DDS's default ports

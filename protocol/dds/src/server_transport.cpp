@@ -32,12 +32,17 @@ struct ServerTransport::Impl {
   std::unique_ptr<TakeAllListener<v1::JoinRequest>> join_listener;
   std::unique_ptr<TakeAllListener<v1::Command>> command_listener;
   std::unique_ptr<TakeAllListener<v1::ParamUpdate>> param_listener;
+  std::unique_ptr<TakeAllListener<v1::StandbyRequest>> standby_request_listener;
+  MatchCounter tick_inputs_matches;
 
   Participant participant;
   dds::DataWriter* match_info_writer = nullptr;
   dds::DataWriter* join_reply_writer = nullptr;
   dds::DataWriter* param_reply_writer = nullptr;
   dds::DataWriter* stats_writer = nullptr;
+  // The hot standby's writers; null when this participant may not use those topics (below).
+  dds::DataWriter* tick_inputs_writer = nullptr;
+  dds::DataWriter* standby_sync_writer = nullptr;
 
   std::mutex start_mutex;
   bool started = false;
@@ -56,6 +61,15 @@ struct ServerTransport::Impl {
     join_reply_writer = &participant.create_writer(pub, *t.join_reply, kJoinReplyProfiles.writer);
     param_reply_writer = &participant.create_writer(pub, *t.param_reply, kParamReplyProfiles.writer);
     stats_writer = &participant.create_writer(pub, *t.server_stats, kServerStatsProfiles.writer);
+    try {
+      participant.create_standby_topics();
+      tick_inputs_writer = &participant.create_writer(pub, *t.tick_inputs, kTickInputsProfiles.writer, &tick_inputs_matches);
+      standby_sync_writer = &participant.create_writer(pub, *t.standby_sync, kStandbySyncProfiles.writer);
+    } catch (const TransportError& e) {
+      // A security directory made before the standby topics existed grants the server none of
+      // them: the match runs, without a standby.
+      std::fprintf(stderr, "throng protocol: no hot standby can follow this server: %s\n", e.what());
+    }
   }
 
   template <class Message>
@@ -99,11 +113,18 @@ void ServerTransport::start(Handlers handlers) {
         update.sender = meta.writer;
         h(std::move(update));
       });
+  if (s.standby_sync_writer != nullptr)
+    s.standby_request_listener = std::make_unique<TakeAllListener<v1::StandbyRequest>>(
+        [h = std::move(handlers.on_standby_request)](v1::StandbyRequest&& r, const SampleMeta&) {
+          if (h) h(from_idl(std::move(r)));
+        });
   const Topics& t = s.participant.topics();
   dds::Subscriber& sub = s.participant.subscriber();
   s.participant.create_reader(sub, *t.join_request, kJoinRequestProfiles.reader, s.join_listener.get());
   s.participant.create_reader(sub, *t.command, kCommandProfiles.reader, s.command_listener.get());
   s.participant.create_reader(sub, *t.param_update, kParamProfiles.reader, s.param_listener.get());
+  if (s.standby_request_listener)
+    s.participant.create_reader(sub, *t.standby_request, kStandbyRequestProfiles.reader, s.standby_request_listener.get());
   s.started = true;
 }
 
@@ -111,7 +132,9 @@ void ServerTransport::flush(std::chrono::milliseconds timeout) {
   // Reliable writers only: best-effort snapshots have nothing to wait for.
   const eprosima::fastrtps::Duration_t max_wait(static_cast<std::int32_t>(timeout.count() / 1000),
                                                 static_cast<std::uint32_t>((timeout.count() % 1000) * 1'000'000));
-  for (dds::DataWriter* w : {impl_->match_info_writer, impl_->join_reply_writer, impl_->param_reply_writer, impl_->stats_writer})
+  // The tick entries too: a standby must see the last tick, whose flag says the match ended.
+  for (dds::DataWriter* w : {impl_->match_info_writer, impl_->join_reply_writer, impl_->param_reply_writer, impl_->stats_writer,
+                             impl_->tick_inputs_writer})
     if (w) (void)w->wait_for_acknowledgments(max_wait);
 }
 
@@ -126,6 +149,18 @@ void ServerTransport::publish_param_reply(const ParamReply& reply) {
 }
 
 void ServerTransport::publish_stats(const ServerStats& stats) { impl_->publish_other(*impl_->stats_writer, stats); }
+
+bool ServerTransport::standby_matched() const {
+  return impl_->tick_inputs_writer != nullptr && impl_->tick_inputs_matches.matched() > 0;
+}
+
+void ServerTransport::publish_tick_entry(const TickEntry& entry) {
+  if (impl_->tick_inputs_writer != nullptr) impl_->publish_other(*impl_->tick_inputs_writer, entry);
+}
+
+void ServerTransport::publish_standby_sync(const StandbySync& sync) {
+  if (impl_->standby_sync_writer != nullptr) impl_->publish_other(*impl_->standby_sync_writer, sync);
+}
 
 void ServerTransport::open_client_channel(std::uint32_t client_id, const std::string& partition) {
   std::unique_lock<std::shared_mutex> lock(impl_->channels_mutex);

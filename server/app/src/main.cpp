@@ -14,6 +14,7 @@
 
 #include "throng/server/match_server.h"
 #include "throng/server/server_options.h"
+#include "throng/server/standby_server.h"
 
 int main(int argc, char** argv) {
   // A file-size limit (ulimit -f) must end the match log like a full disk does, with a write error
@@ -36,6 +37,10 @@ int main(int argc, char** argv) {
       parsed.options->log_format == "json" ? throng::server::LogFormat::json : throng::server::LogFormat::text,
       parsed.options->log_level);
   try {
+    if (parsed.options->standby) {
+      throng::server::StandbyServer standby(*parsed.options);
+      return standby.run();
+    }
     throng::server::MatchServer server(*parsed.options);
     return server.run();
   } catch (const std::exception& e) {

@@ -29,6 +29,7 @@
 #include "throng/server/log_setup.h"
 #include "throng/server/server_metrics.h"
 #include "throng/server/server_summary.h"
+#include "throng/server/standby_feed.h"
 #include "throng/server/tick_schedule.h"
 #include "throng/world/world.h"
 
@@ -88,6 +89,7 @@ struct MatchServer::Impl {
   scene::SceneDef scene;
   match::Match match;
   protocol::ServerTransport transport;
+  StandbyFeed standby_feed;  // tick entries and checkpoints for hot standbys
   admin::MetricsRegistry registry;
   ServerMetrics metrics{registry};
   std::unique_ptr<admin::AdminServer> admin;
@@ -151,6 +153,7 @@ struct MatchServer::Impl {
         scene(load_scaled_scene(o)),
         match(scene, o.match, make_match_id(scene.name)),
         transport(transport_options(o)),
+        standby_feed(scene, o.match, match.match_info().match_id),
         operators_allowed(o.allow_anonymous_operator || !o.security_dir.empty()) {
     if (o.admin_port >= 0) {
       admin::AdminServerOptions ao;
@@ -373,7 +376,9 @@ void MatchServer::Impl::run_tick(Clock::time_point woke) {
 
   schedule->begin_tick(woke);
   const match::TickReport& report = match.tick(outbox);
-  if (log) log->append_tick(report.tick, match.last_inputs(), report.state_hash, stopping ? matchlog::kTickShutdownBegan : 0);
+  const std::uint8_t log_flags = stopping ? matchlog::kTickShutdownBegan : 0;
+  if (log) log->append_tick(report.tick, match.last_inputs(), report.state_hash, log_flags);
+  standby_feed.after_tick(match, report.tick, report.state_hash, log_flags, transport);
   if (log && log->keyframe_interval_ticks() > 0 && report.tick % log->keyframe_interval_ticks() == 0)
     keyframe_saver.start(match, report.tick);  // runs beside publish_outbox (both only read the match)
   const auto published_at = Clock::now();
@@ -490,6 +495,7 @@ int MatchServer::run(bool handle_signals) {
       [&m](protocol::JoinRequest&& r) { m.match.inputs().push(std::move(r)); },
       [&m](protocol::Command&& c) { m.match.inputs().push(std::move(c)); },
       [&m](protocol::ParamUpdate&& u) { m.on_param_update(std::move(u)); },
+      [&m](protocol::StandbyRequest&& r) { m.standby_feed.on_request(std::move(r)); },
   });
   m.transport.publish_match_info(m.match.match_info());
   // Publish each snapshot from the worker that built it (the transport is thread-safe), so
@@ -589,6 +595,9 @@ int MatchServer::run(bool handle_signals) {
   }
   std::fputs(format_summary(s).c_str(), stdout);
   std::fflush(stdout);
+  if (m.standby_feed.stats().syncs_sent > 0)
+    spdlog::info("hot standby: {} tick entries published, {} checkpoints sent", m.standby_feed.stats().entries_published,
+                 m.standby_feed.stats().syncs_sent);
   spdlog::info("match ended after {} ticks; exit 0", m.match.tick_index());
   return 0;
 }

@@ -94,6 +94,10 @@ ParseResult parse_server_options(const std::vector<std::string>& args) {
                  "end the match once one side has been routed (every NPC group of a faction retreating) for this many "
                  "seconds (0 = never)")
       ->check(CLI::Range(0.0, 1e7));
+  app.add_flag("--standby", o.standby,
+               "be a hot standby of the match on this DDS domain instead of hosting one: take the primary's match "
+               "(scene, config, a checkpoint), follow it tick by tick, check every tick's state hash, publish nothing "
+               "to clients (docs/design/standby.md). --scene, --npcs and the match options are the primary's");
   app.add_option("--summary-json", o.summary_json, "write the end-of-match summary to this JSON file");
   app.add_option("--log-format", o.log_format, "text, or json: one JSON object per line (time, level, match, msg)")
       ->check(CLI::IsMember({"text", "json"}));
@@ -108,6 +112,8 @@ ParseResult parse_server_options(const std::vector<std::string>& args) {
     require_finite(o.duration_s, "--duration");
     require_finite(o.end_when_empty_s, "--end-when-empty");
     require_finite(o.end_when_routed_s, "--end-when-routed");
+    if (o.standby && !o.listen.empty())
+      throw CLI::ValidationError("--standby", "does not run over --listen (TCP) yet: use the primary's DDS domain");
     if (!o.public_address.empty() && o.listen.empty())
       throw CLI::ValidationError("--public-address", "needs --listen (it is the address of the TCP listener)");
     // Under Agones the sidecar's port comes from the environment, as in Agones's own SDKs.

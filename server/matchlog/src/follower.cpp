@@ -72,6 +72,7 @@ void MatchFollower::apply_held() {
     TickRecord t = std::move(it->second);
     held_.erase(it);
     const std::uint64_t primary_hash = t.state_hash;
+    last_flags_ = t.flags;
     if (resim_.step(t) == primary_hash) {
       ++stats_.applied;
     } else {

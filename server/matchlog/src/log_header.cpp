@@ -1,6 +1,7 @@
 // The header record's JSON, and the scene made self-contained before it is stored.
 #include "throng/matchlog/log_header.h"
 
+#include <chrono>
 #include <ctime>
 #include <fstream>
 #include <sstream>
@@ -111,6 +112,16 @@ match::MatchConfig config_from_json(const Json& j) {
   c.interest.keepalive_ticks = get<std::uint32_t>(i, "keepalive_ticks", wi);
   c.interest.removed_repeat = get<std::uint32_t>(i, "removed_repeat", wi);
   return c;
+}
+
+LogHeader stamp_header(LogHeader header) {
+  header.format_version = kFormatVersion;
+  if (header.build_id.empty()) header.build_id = default_build_id();
+  header.scene = self_contained_scene(header.scene);
+  header.start_unix_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
+                             std::chrono::system_clock::now().time_since_epoch()).count();
+  header.start_utc = format_utc_ms(header.start_unix_ms);
+  return header;
 }
 
 std::string format_utc_ms(std::int64_t unix_ms) {

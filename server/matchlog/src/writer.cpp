@@ -50,12 +50,7 @@ void MatchLogWriter::begin(LogHeader header) {
     if (opt_.keyframe_slots < 1) throw LogError("match log: keyframe_slots must be >= 1");
   }
 
-  header.format_version = kFormatVersion;
-  if (header.build_id.empty()) header.build_id = default_build_id();
-  header.scene = self_contained_scene(header.scene);
-  header.start_unix_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
-                             std::chrono::system_clock::now().time_since_epoch()).count();
-  header.start_utc = format_utc_ms(header.start_unix_ms);
+  header = stamp_header(std::move(header));
   header.writer = {opt_.block_ticks, opt_.index_interval_ticks, opt_.fsync_interval_ms, opt_.zstd_level,
                    opt_.keyframe_interval_ticks, opt_.keyframe_snapshot_baselines};
   const std::string text = header_to_json_text(header);

@@ -86,6 +86,7 @@ class ServerTransport {
     std::function<void(JoinRequest&&)> on_join;
     std::function<void(Command&&)> on_command;
     std::function<void(ParamUpdate&&)> on_param_update;
+    std::function<void(StandbyRequest&&)> on_standby_request;  // a standby server asks for the match
   };
   // Creates the participant, topics, the shared writers/readers. Throws TransportError.
   explicit ServerTransport(const TransportOptions& options);
@@ -113,12 +114,45 @@ class ServerTransport {
   // and closed with the channel. Returns the payload size, 0 if the client has no open channel.
   std::size_t publish_contacts(const ContactPairs& contacts);
 
+  // Hot standby (docs/design/standby.md). standby_matched(): a standby's tick-inputs reader is
+  // matched now (the server encodes tick entries only then). Both writes are reliable; the sync
+  // (megabytes) leaves on Fast DDS's asynchronous thread.
+  bool standby_matched() const;
+  void publish_tick_entry(const TickEntry& entry);
+  void publish_standby_sync(const StandbySync& sync);
+
   TransportCounters counters() const;
 
   // Waits (at most timeout) until every matched reader acknowledged what the reliable writers
   // sent — match info, join/param replies, stats. Called before exiting so the final "ended" match
   // info is not lost with the participant.
   void flush(std::chrono::milliseconds timeout);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// A hot standby's participant (docs/design/standby.md): reads the primary's tick entries and its
+// answers, asks it for the match. Under DDS Security it must hold the server identity: no other
+// identity is granted these topics.
+class StandbyTransport {
+ public:
+  struct Handlers {
+    std::function<void(TickEntry&&)> on_tick_entry;
+    std::function<void(StandbySync&&)> on_sync;  // every answer, other standbys' too
+  };
+  explicit StandbyTransport(const TransportOptions& options);
+  ~StandbyTransport();
+  StandbyTransport(const StandbyTransport&) = delete;
+  StandbyTransport& operator=(const StandbyTransport&) = delete;
+
+  void start(Handlers handlers);
+  // Blocks until a primary's request reader is matched or the timeout passes; returns whether.
+  bool wait_for_primary(std::chrono::milliseconds timeout);
+  // Tick-inputs writers (primaries) this standby's reader is matched with now.
+  int primaries_matched() const;
+  void request_sync(const StandbyRequest& request);
 
  private:
   struct Impl;

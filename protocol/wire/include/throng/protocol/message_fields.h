@@ -53,6 +53,10 @@
   X(commands_accepted) X(commands_rejected) X(snapshot_bytes) X(snapshot_samples) X(push_events) X(state_hash) \
   X(state)
 
+#define THRONG_TICK_ENTRY_FIELDS(X) X(tick) X(entry)
+#define THRONG_STANDBY_REQUEST_FIELDS(X) X(standby_nonce) X(have_tick)
+#define THRONG_STANDBY_SYNC_FIELDS(X) X(standby_nonce) X(tick) X(header_json) X(checkpoint)
+
 namespace throng::protocol::detail {
 
 // Counts an aggregate's fields: the largest N for which T{x1, ..., xN} compiles when each x
@@ -95,5 +99,8 @@ THRONG_CHECK_FIELD_LIST(ParamUpdate, THRONG_PARAM_UPDATE_FIELDS(THRONG_COUNT_FIE
                                          THRONG_PARAM_UPDATE_LOCAL_FIELDS(THRONG_COUNT_FIELD));
 THRONG_CHECK_FIELD_LIST(ParamReply, THRONG_PARAM_REPLY_FIELDS(THRONG_COUNT_FIELD));
 THRONG_CHECK_FIELD_LIST(ServerStats, THRONG_SERVER_STATS_FIELDS(THRONG_COUNT_FIELD));
+THRONG_CHECK_FIELD_LIST(TickEntry, THRONG_TICK_ENTRY_FIELDS(THRONG_COUNT_FIELD));
+THRONG_CHECK_FIELD_LIST(StandbyRequest, THRONG_STANDBY_REQUEST_FIELDS(THRONG_COUNT_FIELD));
+THRONG_CHECK_FIELD_LIST(StandbySync, THRONG_STANDBY_SYNC_FIELDS(THRONG_COUNT_FIELD));
 
 }  // namespace throng::protocol

@@ -28,6 +28,10 @@ inline constexpr const char* kTopicParamUpdate = "throng_v1_param_update";
 inline constexpr const char* kTopicParamReply = "throng_v1_param_reply";
 inline constexpr const char* kTopicServerStats = "throng_v1_server_stats";
 inline constexpr const char* kTopicContacts = "throng_v1_contacts";
+// Server to server only (a hot standby; DDS Security grants them to the server identity alone).
+inline constexpr const char* kTopicTickInputs = "throng_v1_tick_inputs";
+inline constexpr const char* kTopicStandbyRequest = "throng_v1_standby_request";
+inline constexpr const char* kTopicStandbySync = "throng_v1_standby_sync";
 
 // The DDS participant a message came from: the GUID prefix of the writer of the sample, filled in
 // by the server's transport from the sample's metadata. Never part of a message a client
@@ -232,6 +236,30 @@ struct ServerStats {
   std::uint64_t push_events = 0;
   std::uint64_t state_hash = 0;
   MatchState state = MatchState::running;
+};
+
+// --- hot standby: primary server <-> standby servers (docs/design/standby.md) -----------------
+// One tick as the primary applied it: the match log's tick entry (matchlog::encode_tick: the
+// inputs in applied order, the state hash, flags). Reliable and ordered, primary -> standbys.
+struct TickEntry {
+  std::uint64_t tick = 0;
+  std::vector<std::uint8_t> entry;
+};
+
+// A standby asks the primary for the match: when it starts, and when its chain broke (a divergent
+// tick, entries it missed). Reliable, standby -> primary.
+struct StandbyRequest {
+  std::uint64_t standby_nonce = 0;  // random per standby process; keys the answer
+  std::uint64_t have_tick = 0;      // the last tick the standby applied (0: none)
+};
+
+// The primary's answer: its match log header (JSON text: scene, config, match id, build) and a
+// checkpoint saved after `tick`, with the snapshot baselines. Reliable, primary -> standbys.
+struct StandbySync {
+  std::uint64_t standby_nonce = 0;
+  std::uint64_t tick = 0;
+  std::vector<std::uint8_t> header_json;
+  std::vector<std::uint8_t> checkpoint;
 };
 
 }  // namespace throng::protocol

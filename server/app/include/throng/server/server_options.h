@@ -53,6 +53,12 @@ struct ServerOptions {
   // Tests only: called on the tick thread after each tick with its number (a test stalls the tick
   // loop with it). Never set by the command line.
   std::function<void(std::uint64_t)> tick_hook_for_tests;
+  // --standby: follow the primary of this domain's match as a hot standby (standby_server.h)
+  // instead of hosting one; the scene and match config come from the primary.
+  bool standby = false;
+  // Tests only: the standby calls it with each tick entry before following it (a test alters one
+  // to make the standby diverge on purpose). Never set by the command line.
+  std::function<void(std::uint64_t tick, std::vector<std::uint8_t>& entry)> standby_entry_hook_for_tests;
   std::string security_dir;        // --security DIR: DDS Security with the server identity in DIR
   match::MatchConfig match;        // tick rate, clients, interest ... (match_config.h)
 };

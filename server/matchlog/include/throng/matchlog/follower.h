@@ -76,6 +76,9 @@ class MatchFollower {
   FollowState state() const;
   std::uint64_t tick() const;  // ticks applied: the follower's match is the primary's after this tick
   std::size_t held() const { return held_.size(); }
+  // The flags (kTick*, format.h) of the last applied tick: kTickShutdownBegan says the primary
+  // ended the match.
+  std::uint8_t last_applied_flags() const { return last_flags_; }
   const FollowerStats& stats() const { return stats_; }
   const match::Match& match() const { return resim_.match(); }
   const match::Outbox& outbox() const { return resim_.outbox(); }  // of the last applied tick
@@ -88,6 +91,7 @@ class MatchFollower {
   Resimulator resim_;
   std::map<std::uint64_t, TickRecord> held_;  // by tick
   bool diverged_ = false;  // the last applied tick's hash differed
+  std::uint8_t last_flags_ = 0;
   FollowerStats stats_;
 };
 

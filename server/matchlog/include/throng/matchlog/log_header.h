@@ -47,6 +47,11 @@ match::MatchConfig config_from_json(const nlohmann::json& j);  // throws LogErro
 std::string header_to_json_text(const LogHeader& h);
 LogHeader header_from_json_text(const std::string& text);
 
+// The header as this build writes it (the writer's begin() and a primary's answer to a standby):
+// this format version, the build id when empty, the scene made self-contained, the start time now.
+// `writer` is left as given. Throws LogError as self_contained_scene does.
+LogHeader stamp_header(LogHeader header);
+
 // Wall-clock time as the header stores it (fixed width, so two logs of the same inputs differ
 // only in these bytes and the header's CRC).
 std::string format_utc_ms(std::int64_t unix_ms);

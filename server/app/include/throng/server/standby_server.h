@@ -1,0 +1,60 @@
+#pragma once
+// throng-server --standby: a hot standby of the match on its DDS domain (docs/design/standby.md).
+// It asks the primary for the match (its log header and a checkpoint), then follows the primary's
+// tick entries through a matchlog::MatchFollower, checking every tick's state hash; a divergent
+// tick or entries it missed make it ask again. It publishes nothing to clients.
+//
+// Threads: run() is the follow loop, the only thread that touches the follower's match; Fast DDS
+// listener threads only queue entries and answers; status() may be called from any thread.
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "throng/matchlog/follower.h"
+#include "throng/server/server_options.h"
+
+namespace throng::server {
+
+struct StandbyStatus {
+  std::string match_id;              // the primary's, once it answered
+  bool synced = false;               // the standby holds the primary's match
+  bool following = false;            // ... and every tick up to `tick` matched the primary's hash
+  std::uint64_t tick = 0;            // ticks applied
+  std::uint64_t state_hash = 0;      // the standby's match after `tick`
+  std::uint64_t primary_tick = 0;    // the newest tick entry received
+  std::uint64_t entries_received = 0;
+  std::uint64_t entries_refused = 0;  // malformed entries (the follower refused them)
+  std::uint64_t requests_sent = 0;
+  std::uint64_t syncs_received = 0;   // answers addressed to this standby
+  std::uint64_t syncs_refused = 0;    // answers whose header or checkpoint did not load
+  std::uint64_t entries_dropped_waiting = 0;  // entries dropped before the first answer (bounded wait)
+  bool primary_ended = false;         // an applied tick said the primary began its shutdown
+  matchlog::FollowerStats follower;
+};
+
+class StandbyServer {
+ public:
+  // Creates the DDS participant (the server identity with --security). Throws std::exception
+  // naming what failed.
+  explicit StandbyServer(const ServerOptions& options);
+  ~StandbyServer();
+  StandbyServer(const StandbyServer&) = delete;
+  StandbyServer& operator=(const StandbyServer&) = delete;
+
+  // Follows until the primary ends the match, --duration passes, request_stop() is called or
+  // SIGINT/SIGTERM arrives (when handle_signals). Prints the summary; returns the exit code: 0, or
+  // 3 when the standby's match was diverged from the primary's at the end.
+  int run(bool handle_signals = true);
+  void request_stop();  // thread-safe
+
+  StandbyStatus status() const;  // thread-safe
+  nlohmann::json summary() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace throng::server

@@ -1,0 +1,381 @@
+// throng-server --standby (standby_server.h): DDS in, a MatchFollower, a summary out.
+#include "throng/server/standby_server.h"
+
+#include <chrono>
+#include <condition_variable>
+#include <csignal>
+#include <cstdio>
+#include <deque>
+#include <fstream>
+#include <mutex>
+#include <optional>
+#include <random>
+#include <unistd.h>
+#include <thread>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "throng/matchlog/format.h"
+#include "throng/matchlog/log_header.h"
+#include "throng/protocol/dds_transport.h"
+#include "throng/protocol/security.h"
+#include "throng/server/log_setup.h"
+#include "throng/world/world.h"
+
+namespace throng::server {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Entries queued by the DDS thread and not yet taken by the follow loop, and entries that arrive
+// before the primary's first answer: 30 s at 30 Hz each, newest kept. Either limit only binds when
+// the loop or the answer stalls; the follower then finds a gap and asks again.
+constexpr std::size_t kMaxQueuedEntries = 900;
+// How often an unanswered request is repeated.
+constexpr auto kRequestRetry = std::chrono::seconds(2);
+// No entry for this long while following: the primary is silent (logged; takeover starts here).
+constexpr auto kSilenceWarning = std::chrono::seconds(1);
+
+std::uint64_t random_nonce() {
+  std::random_device rd;
+  return (static_cast<std::uint64_t>(rd()) << 32) ^ rd() ^ static_cast<std::uint64_t>(::getpid());
+}
+
+protocol::TransportOptions standby_transport_options(const ServerOptions& o) {
+  protocol::TransportOptions t{o.domain, o.loopback_only, "throng-standby", std::nullopt};
+  // The server's identity: only it is granted the server-to-server topics.
+  if (!o.security_dir.empty()) t.security = protocol::security_files(o.security_dir, protocol::kServerIdentity);
+  return t;
+}
+
+}  // namespace
+
+struct StandbyServer::Impl {
+  ServerOptions options;
+  std::uint64_t nonce = random_nonce();
+  protocol::StandbyTransport transport;
+
+  // Filled by DDS listener threads, emptied by the follow loop.
+  std::mutex queue_mutex;
+  std::condition_variable queue_changed;
+  std::deque<protocol::TickEntry> queued;
+  std::optional<protocol::StandbySync> queued_sync;
+  std::uint64_t queue_dropped = 0;  // guarded by queue_mutex
+
+  std::atomic<bool> stop_requested{false};
+  std::mutex end_mutex;
+  std::string end_reason;
+
+  // The follow loop's own.
+  std::unique_ptr<matchlog::MatchFollower> follower;  // non-null once an answer restored
+  std::deque<protocol::TickEntry> waiting;            // entries before the first answer
+  bool requested = false;
+  Clock::time_point last_request{};
+  Clock::time_point last_entry_at{};
+  bool silent = false;
+  std::uint64_t mismatches_logged = 0;
+  double wall_seconds = 0.0;
+
+  mutable std::mutex status_mutex;
+  StandbyStatus st;  // guarded by status_mutex (written by the loop, read by status())
+
+  explicit Impl(const ServerOptions& o) : options(o), transport(standby_transport_options(o)) {}
+
+  void request_end(const char* reason) {
+    {
+      std::lock_guard<std::mutex> lock(end_mutex);
+      if (end_reason.empty()) end_reason = reason;
+    }
+    stop_requested.store(true);
+    queue_changed.notify_all();
+  }
+
+  void maybe_request(Clock::time_point now);
+  void apply_sync(protocol::StandbySync&& sync);
+  void apply_entry(protocol::TickEntry&& entry, Clock::time_point now);
+  void check_silence(Clock::time_point now);
+  void publish_status();
+  void follow_loop(Clock::time_point end_at);
+};
+
+StandbyServer::StandbyServer(const ServerOptions& options) : impl_(std::make_unique<Impl>(options)) {}
+StandbyServer::~StandbyServer() = default;
+
+void StandbyServer::request_stop() { impl_->request_end("stopped"); }
+
+StandbyStatus StandbyServer::status() const {
+  std::lock_guard<std::mutex> lock(impl_->status_mutex);
+  return impl_->st;
+}
+
+// At start, and whenever the chain broke (a divergent tick, a gap): ask the primary for the match,
+// again every kRequestRetry until it answers. Only once the primary reads requests and this
+// standby reads its entries (wait_for_primary), so that no entry between the checkpoint and the
+// first one received is lost.
+void StandbyServer::Impl::maybe_request(Clock::time_point now) {
+  const bool want = !follower || follower->state() == matchlog::FollowState::needs_checkpoint;
+  if (!want) {
+    requested = false;
+    return;
+  }
+  if (requested && now - last_request < kRequestRetry) return;
+  if (!transport.wait_for_primary(std::chrono::milliseconds(0))) return;
+  protocol::StandbyRequest r;
+  r.standby_nonce = nonce;
+  r.have_tick = follower ? follower->tick() : 0;
+  try {
+    transport.request_sync(r);
+  } catch (const protocol::TransportError& e) {
+    spdlog::warn("standby: cannot ask the primary for the match: {}", e.what());
+  }
+  if (!requested) spdlog::info("standby {:016x}: asking the primary for the match (applied up to tick {})", nonce, r.have_tick);
+  requested = true;
+  last_request = now;
+  std::lock_guard<std::mutex> lock(status_mutex);
+  ++st.requests_sent;
+}
+
+void StandbyServer::Impl::apply_sync(protocol::StandbySync&& sync) {
+  try {
+    const matchlog::LogHeader header =
+        matchlog::header_from_json_text(std::string(sync.header_json.begin(), sync.header_json.end()));
+    const bool fresh = !follower || header.match_id != st.match_id;
+    std::unique_ptr<matchlog::MatchFollower> built;
+    if (fresh) {
+      if (header.build_id != matchlog::default_build_id())
+        spdlog::warn("standby: the primary runs build '{}', this standby '{}': a different build may diverge (every "
+                     "tick's state hash will tell)", header.build_id, matchlog::default_build_id());
+      built = std::make_unique<matchlog::MatchFollower>(header);
+    }
+    matchlog::MatchFollower& f = fresh ? *built : *follower;
+    f.on_checkpoint(sync.checkpoint);  // throws with the follower unchanged
+    if (fresh) {
+      follower = std::move(built);
+      set_log_match_id(header.match_id);
+      spdlog::info("standby: following match {} (scene '{}', {} bodies, {} Hz) from tick {} ({} kB checkpoint)",
+                   header.match_id, header.scene.name, f.match().world().pos_x().size(), header.config.tick_hz,
+                   sync.tick, sync.checkpoint.size() / 1024);
+    } else {
+      spdlog::info("standby: resynchronised from the primary's checkpoint after tick {}", sync.tick);
+    }
+    std::lock_guard<std::mutex> lock(status_mutex);
+    st.match_id = header.match_id;
+    st.synced = true;
+    ++st.syncs_received;
+  } catch (const std::exception& e) {
+    spdlog::error("standby: the primary's match after tick {} does not load here: {}", sync.tick, e.what());
+    std::lock_guard<std::mutex> lock(status_mutex);
+    ++st.syncs_refused;
+    return;
+  }
+  // Entries that came before the first answer: the follower drops those the checkpoint covers.
+  while (!waiting.empty()) {
+    protocol::TickEntry e = std::move(waiting.front());
+    waiting.pop_front();
+    apply_entry(std::move(e), Clock::now());
+  }
+}
+
+void StandbyServer::Impl::apply_entry(protocol::TickEntry&& entry, Clock::time_point now) {
+  last_entry_at = now;
+  {
+    std::lock_guard<std::mutex> lock(status_mutex);
+    ++st.entries_received;
+    st.primary_tick = std::max(st.primary_tick, entry.tick);
+  }
+  if (options.standby_entry_hook_for_tests) options.standby_entry_hook_for_tests(entry.tick, entry.entry);
+  if (!follower) {
+    waiting.push_back(std::move(entry));
+    if (waiting.size() > kMaxQueuedEntries) {
+      waiting.pop_front();
+      std::lock_guard<std::mutex> lock(status_mutex);
+      ++st.entries_dropped_waiting;
+    }
+    return;
+  }
+  try {
+    follower->on_tick_entry(entry.entry);
+  } catch (const matchlog::LogError& e) {
+    std::lock_guard<std::mutex> lock(status_mutex);
+    ++st.entries_refused;
+    if (st.entries_refused <= 10) spdlog::error("standby: tick entry {} refused: {}", entry.tick, e.what());
+    return;
+  }
+  const matchlog::FollowerStats& fs = follower->stats();
+  if (fs.mismatches > mismatches_logged) {
+    mismatches_logged = fs.mismatches;
+    spdlog::error("standby: tick {} diverged from the primary (its state hash differs here): asking for the match again",
+                  fs.first_mismatch_tick);
+  }
+  if ((follower->last_applied_flags() & matchlog::kTickShutdownBegan) != 0) request_end("primary ended");
+}
+
+void StandbyServer::Impl::check_silence(Clock::time_point now) {
+  if (!follower) return;
+  const bool quiet = now - last_entry_at >= kSilenceWarning;
+  if (quiet && !silent)
+    spdlog::warn("standby: no tick entry from the primary for {} ms (last tick {})",
+                 std::chrono::duration_cast<std::chrono::milliseconds>(now - last_entry_at).count(), follower->tick());
+  else if (!quiet && silent)
+    spdlog::info("standby: the primary's tick entries resumed");
+  silent = quiet;
+}
+
+void StandbyServer::Impl::publish_status() {
+  std::lock_guard<std::mutex> lock(status_mutex);
+  if (!follower) return;
+  st.tick = follower->tick();
+  st.state_hash = follower->match().state_hash();
+  st.following = follower->state() == matchlog::FollowState::following;
+  st.follower = follower->stats();
+  st.primary_ended = (follower->last_applied_flags() & matchlog::kTickShutdownBegan) != 0;
+}
+
+void StandbyServer::Impl::follow_loop(Clock::time_point end_at) {
+  std::deque<protocol::TickEntry> batch;
+  std::optional<protocol::StandbySync> sync;
+  while (!stop_requested.load()) {
+    const auto now = Clock::now();
+    if (now >= end_at) {
+      request_end("duration");
+      break;
+    }
+    maybe_request(now);
+    {
+      std::unique_lock<std::mutex> lock(queue_mutex);
+      queue_changed.wait_for(lock, std::chrono::milliseconds(50),
+                             [&] { return stop_requested.load() || !queued.empty() || queued_sync.has_value(); });
+      batch.swap(queued);
+      sync.swap(queued_sync);
+    }
+    if (sync) apply_sync(std::move(*sync));
+    sync.reset();
+    for (protocol::TickEntry& e : batch) apply_entry(std::move(e), Clock::now());
+    batch.clear();
+    check_silence(Clock::now());
+    publish_status();
+  }
+}
+
+int StandbyServer::run(bool handle_signals) {
+  Impl& m = *impl_;
+  boost::asio::io_context io;
+  boost::asio::signal_set signals(io);
+  std::thread signal_thread;
+  if (handle_signals) {
+    signals.add(SIGINT);
+    signals.add(SIGTERM);
+    signals.async_wait([&](const boost::system::error_code& ec, int signo) {
+      if (ec) return;
+      spdlog::info("{} received: the standby stops following", signo == SIGINT ? "SIGINT" : "SIGTERM");
+      m.request_end("signal");
+    });
+    signal_thread = std::thread([&io] { io.run(); });
+  }
+
+  m.transport.start(protocol::StandbyTransport::Handlers{
+      [&m](protocol::TickEntry&& e) {
+        {
+          std::lock_guard<std::mutex> lock(m.queue_mutex);
+          m.queued.push_back(std::move(e));
+          if (m.queued.size() > kMaxQueuedEntries) {
+            m.queued.pop_front();
+            ++m.queue_dropped;
+          }
+        }
+        m.queue_changed.notify_one();
+      },
+      [&m](protocol::StandbySync&& s) {
+        if (s.standby_nonce != m.nonce) return;  // another standby's answer
+        {
+          std::lock_guard<std::mutex> lock(m.queue_mutex);
+          m.queued_sync = std::move(s);
+        }
+        m.queue_changed.notify_one();
+      },
+  });
+  spdlog::info("standby {:016x}: waiting for the primary on DDS domain {} ({}{})", m.nonce, m.options.domain,
+               m.options.loopback_only ? "127.0.0.1 only" : "default network",
+               m.options.security_dir.empty() ? "" : ", DDS Security with the server identity");
+
+  if (!m.options.log_file.empty() || m.options.admin_port >= 0)
+    spdlog::info("standby: it writes no match log and serves no admin HTTP yet (--log and --admin-port apply to a "
+                 "primary); the primary's log records the match");
+  const auto started = Clock::now();
+  const auto end_at = m.options.duration_s > 0
+                          ? started + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(m.options.duration_s))
+                          : Clock::time_point::max();
+  m.follow_loop(end_at);
+  m.wall_seconds = std::chrono::duration<double>(Clock::now() - started).count();
+  if (handle_signals) {
+    signals.cancel();
+    io.stop();
+    signal_thread.join();
+  }
+
+  const nlohmann::json s = summary();
+  if (!m.options.summary_json.empty()) {
+    std::ofstream f(m.options.summary_json);
+    f << s.dump(2) << "\n";
+    if (!f) spdlog::error("cannot write the summary to {}", m.options.summary_json);
+  }
+  const StandbyStatus st = status();
+  std::fputs(fmt::format("standby summary: match {} | {} | applied {} ticks, last {} (primary's newest {}) | "
+                         "mismatches {} | checkpoints {} | gaps {} | entries refused {} | end: {}\n",
+                         st.match_id.empty() ? "-" : st.match_id,
+                         !st.synced ? "never received the match" : st.following ? "following" : "diverged or behind",
+                         st.follower.applied, st.tick, st.primary_tick, st.follower.mismatches, st.follower.checkpoints,
+                         st.follower.gaps, st.entries_refused, s.value("end_reason", ""))
+                 .c_str(),
+             stdout);
+  std::fflush(stdout);
+  const int code = !st.synced ? 4 : st.following ? 0 : 3;
+  spdlog::info("standby ended after {:.1f} s; exit {}", m.wall_seconds, code);
+  return code;
+}
+
+nlohmann::json StandbyServer::summary() const {
+  const StandbyStatus st = status();
+  std::string reason;
+  {
+    std::lock_guard<std::mutex> lock(impl_->end_mutex);
+    reason = impl_->end_reason;
+  }
+  std::uint64_t queue_dropped = 0;
+  {
+    std::lock_guard<std::mutex> lock(impl_->queue_mutex);
+    queue_dropped = impl_->queue_dropped;
+  }
+  return nlohmann::json{
+      {"role", "standby"},
+      {"match_id", st.match_id},
+      {"end_reason", reason},
+      {"wall_seconds", impl_->wall_seconds},
+      {"synced", st.synced},
+      {"following", st.following},
+      {"tick", st.tick},
+      {"primary_tick", st.primary_tick},
+      {"state_hash", fmt::format("{:016x}", st.state_hash)},
+      {"primary_ended", st.primary_ended},
+      {"ticks_applied", st.follower.applied},
+      {"mismatches", st.follower.mismatches},
+      {"first_mismatch_tick", st.follower.first_mismatch_tick},
+      {"checkpoints", st.follower.checkpoints},
+      {"stale_checkpoints", st.follower.stale_checkpoints},
+      {"stale_entries", st.follower.stale_entries},
+      {"gaps", st.follower.gaps},
+      {"held_dropped", st.follower.held_dropped},
+      {"entries_received", st.entries_received},
+      {"entries_refused", st.entries_refused},
+      {"entries_dropped", st.entries_dropped_waiting + queue_dropped},
+      {"requests_sent", st.requests_sent},
+      {"syncs_received", st.syncs_received},
+      {"syncs_refused", st.syncs_refused},
+  };
+}
+
+}  // namespace throng::server

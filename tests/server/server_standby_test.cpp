@@ -1,0 +1,189 @@
+// throng-server --standby against a primary in the same process, over loopback DDS: a standby
+// started with the primary, one started late (from a checkpoint), and one made to diverge on
+// purpose that asks again and resynchronises. Each ends when the primary ends its match and must
+// then hold the primary's final tick and state hash.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <thread>
+
+#include "server_test_support.h"
+#include "throng/matchlog/format.h"
+#include "throng/matchlog/tick_record.h"
+#include "throng/server/standby_server.h"
+
+namespace throng::test {
+namespace {
+
+// A StandbyServer running on its own thread until the primary ends the match (or stop()).
+class StandbyThread {
+ public:
+  explicit StandbyThread(const server::ServerOptions& o)
+      : standby_(o), thread_([this] {
+          exit_code_ = standby_.run(false);
+          done_.store(true);
+        }) {}
+  ~StandbyThread() { stop(); }
+  void stop() {
+    if (thread_.joinable()) {
+      standby_.request_stop();
+      thread_.join();
+    }
+  }
+  // Waits (bounded) for the standby to end by itself.
+  bool wait_done(std::chrono::milliseconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (!done_.load()) {
+      if (std::chrono::steady_clock::now() > deadline) return false;
+      std::this_thread::sleep_for(10ms);
+    }
+    thread_.join();
+    return true;
+  }
+  bool wait_until(const std::function<bool(const server::StandbyStatus&)>& pred, std::chrono::milliseconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (!pred(standby_.status())) {
+      if (std::chrono::steady_clock::now() > deadline || done_.load()) return false;
+      std::this_thread::sleep_for(10ms);
+    }
+    return true;
+  }
+  server::StandbyServer& standby() { return standby_; }
+  int exit_code() const { return exit_code_; }
+
+ private:
+  server::StandbyServer standby_;
+  int exit_code_ = -1;
+  std::atomic<bool> done_{false};
+  std::thread thread_;
+};
+
+server::ServerOptions standby_options(const server::ServerOptions& primary) {
+  server::ServerOptions o = primary;
+  o.standby = true;
+  o.scene = "does-not-matter";  // the standby takes the scene from the primary
+  o.npcs = 1;
+  return o;
+}
+
+// A client that joins and keeps walking, so the tick entries carry a join and commands.
+class Walker {
+ public:
+  explicit Walker(int domain) : client_(domain) {
+    reply_ = client_.join(7, "walker");
+    if (!accepted()) return;
+    thread_ = std::thread([this] {
+      for (std::uint32_t seq = 1; !stop_.load(); ++seq) {
+        protocol::Command c = standing_command(*reply_, seq);
+        c.move_x = (seq / 30) % 2 == 0 ? 0.9f : -0.5f;
+        c.move_y = 0.3f;
+        client_.transport().send_command(c);
+        std::this_thread::sleep_for(30ms);
+      }
+    });
+  }
+  ~Walker() {
+    stop_.store(true);
+    if (thread_.joinable()) thread_.join();
+  }
+  bool accepted() const { return reply_ && reply_->result == protocol::JoinResult::accepted; }
+
+ private:
+  TestClient client_;
+  std::optional<protocol::JoinReply> reply_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+// Stops the primary (graceful: its last tick's entry says so) and checks that the standby ended
+// by itself holding the primary's last tick and state hash, with every tick it applied matching.
+void expect_standby_ends_with_the_primary(ServerThread& primary, StandbyThread& standby) {
+  primary.stop();
+  const nlohmann::json p = primary.server().summary();
+  ASSERT_TRUE(standby.wait_done(15s)) << "the standby did not see the primary end its match";
+  const nlohmann::json s = standby.standby().summary();
+  EXPECT_EQ(standby.exit_code(), 0) << s.dump();
+  EXPECT_EQ(s["end_reason"], "primary ended");
+  EXPECT_TRUE(s["following"].get<bool>());
+  EXPECT_EQ(s["tick"].get<std::uint64_t>(), p["ticks"].get<std::uint64_t>()) << s.dump();
+  EXPECT_EQ(s["state_hash"], p["state_hash"]);
+  EXPECT_EQ(s["match_id"], p["match_id"]);
+  EXPECT_EQ(s["entries_refused"], 0u);
+}
+
+TEST(Standby, StartedWithThePrimaryFollowsEveryTickWithTheSameHash) {
+  const auto o = small_server_options(154);
+  ServerThread primary(o);
+  StandbyThread standby(standby_options(o));
+  Walker walker(154);
+  ASSERT_TRUE(walker.accepted());
+  ASSERT_TRUE(standby.wait_until([](const server::StandbyStatus& s) { return s.synced && s.following && s.tick >= 90; }, 30s));
+  expect_standby_ends_with_the_primary(primary, standby);
+  const nlohmann::json s = standby.standby().summary();
+  EXPECT_EQ(s["mismatches"], 0u);
+  EXPECT_GE(s["ticks_applied"].get<std::uint64_t>(), 80u);  // from its checkpoint, a few ticks in
+  EXPECT_GE(s["syncs_received"].get<std::uint64_t>(), 1u);
+}
+
+TEST(Standby, StartedLateCatchesUpFromTheCheckpointItAsksFor) {
+  auto o = small_server_options(155);
+  std::atomic<std::uint64_t> primary_tick{0};
+  o.tick_hook_for_tests = [&](std::uint64_t t) { primary_tick.store(t); };
+  ServerThread primary(o);
+  Walker walker(155);
+  ASSERT_TRUE(walker.accepted());
+  for (auto deadline = std::chrono::steady_clock::now() + 20s; primary_tick.load() < 90;) {
+    ASSERT_LT(std::chrono::steady_clock::now(), deadline);
+    std::this_thread::sleep_for(10ms);
+  }
+  StandbyThread standby(standby_options(o));
+  ASSERT_TRUE(standby.wait_until([&](const server::StandbyStatus& s) { return s.following && s.tick >= primary_tick.load() - 1 && s.follower.applied >= 30; }, 30s));
+  expect_standby_ends_with_the_primary(primary, standby);
+  const nlohmann::json s = standby.standby().summary();
+  EXPECT_EQ(s["mismatches"], 0u);
+  EXPECT_GE(s["checkpoints"].get<std::uint64_t>(), 1u);
+  // It started from a checkpoint after tick 90: it applied fewer ticks than the match has.
+  EXPECT_LT(s["ticks_applied"].get<std::uint64_t>() + 90, s["tick"].get<std::uint64_t>() + 1);
+}
+
+TEST(Standby, ThatDivergesOnPurposeAsksAgainAndResynchronises) {
+  const auto o = small_server_options(160);
+  ServerThread primary(o);
+  auto so = standby_options(o);
+  std::atomic<std::uint64_t> altered{0};
+  // Tick 120's entry arrives with a state hash the standby cannot reach: its tick diverges.
+  so.standby_entry_hook_for_tests = [&](std::uint64_t tick, std::vector<std::uint8_t>& entry) {
+    if (tick != 120) return;
+    matchlog::TickRecord r;
+    std::size_t pos = 0;
+    matchlog::decode_tick(entry, pos, r, matchlog::kFormatVersion);
+    entry.clear();
+    matchlog::encode_tick(r.tick, r.inputs, r.state_hash ^ 1u, r.flags, entry);
+    altered.store(tick);
+  };
+  StandbyThread standby(so);
+  Walker walker(160);
+  ASSERT_TRUE(walker.accepted());
+  ASSERT_TRUE(standby.wait_until([](const server::StandbyStatus& s) { return s.follower.mismatches == 1 && s.following && s.tick >= 150; }, 30s));
+  EXPECT_EQ(altered.load(), 120u);
+  expect_standby_ends_with_the_primary(primary, standby);
+  const nlohmann::json s = standby.standby().summary();
+  EXPECT_EQ(s["mismatches"], 1u);
+  EXPECT_EQ(s["first_mismatch_tick"], 120u);
+  EXPECT_GE(s["checkpoints"].get<std::uint64_t>(), 2u);  // the first, and the one after the divergence
+  EXPECT_GE(s["requests_sent"].get<std::uint64_t>(), 2u);
+}
+
+TEST(Standby, WithoutAPrimaryEndsAtItsDurationSayingItNeverHadTheMatch) {
+  auto o = standby_options(small_server_options(162));
+  o.duration_s = 1.0;
+  server::StandbyServer standby(o);
+  EXPECT_EQ(standby.run(false), 4);
+  const nlohmann::json s = standby.summary();
+  EXPECT_FALSE(s["synced"].get<bool>());
+  EXPECT_EQ(s["end_reason"], "duration");
+  EXPECT_EQ(s["requests_sent"], 0u);  // nobody reads requests on this domain
+}
+
+}  // namespace
+}  // namespace throng::test
