@@ -47,6 +47,7 @@ void PlaySession::start() {
         else ++inbox_.dropped;
       },
       {},  // a replay feeds no hot standby
+      {},  // and claims no match
   });
   transport_.publish_match_info(player_.match().match_info());
 }

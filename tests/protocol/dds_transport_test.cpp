@@ -96,7 +96,7 @@ ServerStats stats_at(std::uint64_t tick) {
 TEST(DdsTransport, JoinRequestsReachTheServerInOrder) {
   Inbox<JoinRequest> joins;
   ServerTransport server(loopback(111, "server"));
-  server.start({.on_join = [&](JoinRequest&& r) { joins.push(std::move(r)); }, .on_command = {}, .on_param_update = {}, .on_standby_request = {}});
+  server.start({.on_join = [&](JoinRequest&& r) { joins.push(std::move(r)); }, .on_command = {}, .on_param_update = {}, .on_standby_request = {}, .on_primary_claim = {}});
   ClientTransport client(loopback(111, "client"));
   client.start({});
 
@@ -170,7 +170,7 @@ TEST(DdsTransport, LateJoinersGetMatchInfoJoinRepliesAndStatsFromHistory) {
 TEST(DdsTransport, CommandArrivesWithEveryFieldIntact) {
   Inbox<Command> commands;
   ServerTransport server(loopback(113, "server"));
-  server.start({.on_join = {}, .on_command = [&](Command&& c) { commands.push(std::move(c)); }, .on_param_update = {}, .on_standby_request = {}});
+  server.start({.on_join = {}, .on_command = [&](Command&& c) { commands.push(std::move(c)); }, .on_param_update = {}, .on_standby_request = {}, .on_primary_claim = {}});
   ClientTransport client(loopback(113, "client"));
   client.start({});
   ASSERT_TRUE(client.wait_for_server(kWait));
@@ -206,7 +206,7 @@ TEST(DdsTransport, ParamUpdateAndReplyRoundTrip) {
                   r.tick = 777;
                   server.publish_param_reply(r);
                   updates.push(std::move(u));
-                }, .on_standby_request = {}});
+                }, .on_standby_request = {}, .on_primary_claim = {}});
   ClientTransport op(loopback(114, "operator"));
   op.start({.on_match_info = {}, .on_join_reply = {}, .on_param_reply = [&](ParamReply&& r) { replies.push(std::move(r)); },
             .on_stats = {}});

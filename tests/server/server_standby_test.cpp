@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <csignal>
 #include <thread>
 
 #include "server_test_support.h"
@@ -172,6 +173,118 @@ TEST(Standby, ThatDivergesOnPurposeAsksAgainAndResynchronises) {
   EXPECT_EQ(s["first_mismatch_tick"], 120u);
   EXPECT_GE(s["checkpoints"].get<std::uint64_t>(), 2u);  // the first, and the one after the divergence
   EXPECT_GE(s["requests_sent"].get<std::uint64_t>(), 2u);
+}
+
+const std::string kServer = std::string(THRONG_BIN_DIR) + "/throng-server";
+
+// The largest number of ticks in a row a client received no snapshot for, among its snapshots in
+// arrival order (ticks that went backwards count as nothing).
+std::uint64_t longest_snapshot_gap(const std::deque<protocol::Snapshot>& snapshots, std::uint32_t client_id) {
+  std::uint64_t last = 0, gap = 0;
+  for (const auto& sn : snapshots) {
+    if (sn.client_id != client_id) continue;
+    if (last != 0 && sn.tick > last + 1) gap = std::max(gap, sn.tick - last - 1);
+    last = std::max(last, sn.tick);
+  }
+  return gap;
+}
+
+// kill -9 of the primary (a process of its own): the standby in this process takes the match over
+// and the client, which never joins again, keeps its client id, entity and command sequence.
+TEST(Standby, TakesOverWhenThePrimaryIsKilledAndItsClientPlaysOnWithoutRejoining) {
+  TempDir dir("throng-takeover");
+  ChildProcess primary(kServer,
+                       {"--scene", "battle", "--npcs", "400", "--domain", "166", "--admin-port", "-1", "--no-log",
+                        "--client-timeout", "30", "--log-level", "warn"},
+                       dir / "out.txt", dir / "err.txt");
+  auto so = standby_options(small_server_options(166));
+  StandbyThread standby(so);
+  TestClient client(166);
+  const auto reply = client.join(9, "stays");
+  ASSERT_TRUE(reply && reply->result == protocol::JoinResult::accepted) << read_file(dir / "err.txt");
+  std::atomic<std::uint32_t> sent{0};
+  std::atomic<bool> stop{false};
+  std::thread commands([&] {
+    for (std::uint32_t seq = 1; !stop.load(); ++seq) {
+      protocol::Command c = standing_command(*reply, seq);
+      c.move_x = 0.6f;
+      client.transport().send_command(c);
+      sent.store(seq);
+      std::this_thread::sleep_for(33ms);
+    }
+  });
+  ASSERT_TRUE(standby.wait_until([](const server::StandbyStatus& s) { return s.following && s.tick >= 60; }, 30s))
+      << standby.standby().summary().dump();
+  ASSERT_TRUE(client.wait_until([&] { return last_applied(client.snapshots(), reply->client_id) >= 20; }));
+
+  const std::uint32_t applied_before = client.with_lock([&] { return last_applied(client.snapshots(), reply->client_id); });
+  primary.kill_now();
+  ASSERT_TRUE(standby.wait_until([](const server::StandbyStatus& s) { return s.took_over; }, 10s))
+      << standby.standby().summary().dump();
+  // Commands apply again on the new primary, under the same client id and sequence.
+  EXPECT_TRUE(client.wait_until([&] { return last_applied(client.snapshots(), reply->client_id) > applied_before + 15; }, 10s));
+  stop.store(true);
+  commands.join();
+
+  const std::uint64_t gap = client.with_lock([&] { return longest_snapshot_gap(client.snapshots(), reply->client_id); });
+  EXPECT_LE(gap, 6u) << "ticks without a snapshot across the takeover";
+  std::printf("takeover: longest snapshot gap %llu ticks\n", static_cast<unsigned long long>(gap));
+  standby.stop();
+  EXPECT_EQ(standby.exit_code(), 0);
+  const nlohmann::json p = standby.standby().primary_summary();
+  EXPECT_EQ(p["clients_connected_at_end"], 1) << p.dump(2);
+  EXPECT_EQ(p["rejected_by_reason"]["unknown_client"], 0) << p.dump(2);
+  EXPECT_EQ(p["rejected_by_reason"]["foreign_participant"], 0) << p.dump(2);
+  EXPECT_EQ(client.with_lock([&] { return client.replies().size(); }), 1u) << "the client never joined again";
+}
+
+// SIGSTOP of the primary for longer than the takeover limit: the standby takes over; when the old
+// primary runs again it reads the new primary's claim (a higher epoch) and stops at once, without
+// a tick more and without telling the clients their match ended.
+TEST(Standby, APausedPrimaryThatWakesUpAfterATakeoverStopsItself) {
+  TempDir dir("throng-fence");
+  ChildProcess primary(kServer,
+                       {"--scene", "battle", "--npcs", "400", "--domain", "169", "--admin-port", "-1", "--no-log",
+                        "--client-timeout", "30", "--summary-json", (dir / "old.json").string()},
+                       dir / "out.txt", dir / "err.txt");
+  StandbyThread standby(standby_options(small_server_options(169)));
+  TestClient client(169);
+  const auto reply = client.join(11, "stays");
+  ASSERT_TRUE(reply && reply->result == protocol::JoinResult::accepted) << read_file(dir / "err.txt");
+  std::atomic<bool> stop{false};
+  std::thread commands([&] {
+    for (std::uint32_t seq = 1; !stop.load(); ++seq) {
+      client.transport().send_command(standing_command(*reply, seq));
+      std::this_thread::sleep_for(33ms);
+    }
+  });
+  ASSERT_TRUE(standby.wait_until([](const server::StandbyStatus& s) { return s.following && s.tick >= 45; }, 30s));
+  primary.signal(SIGSTOP);
+  ASSERT_TRUE(standby.wait_until([](const server::StandbyStatus& s) { return s.took_over; }, 10s));
+  std::this_thread::sleep_for(1s);
+  primary.signal(SIGCONT);
+  const auto code = primary.wait(10s);
+  ASSERT_TRUE(code.has_value()) << "the old primary kept hosting the match after it woke up";
+  EXPECT_EQ(*code, server::kExitFenced) << read_file(dir / "err.txt");
+  EXPECT_NE(read_file(dir / "err.txt").find("is hosted by another server now (epoch 2"), std::string::npos);
+  const nlohmann::json old = nlohmann::json::parse(read_file(dir / "old.json"));
+  EXPECT_EQ(old["end_reason"], "fenced");
+  EXPECT_EQ(old["epoch"], 1);
+
+  // The new primary still hosts the client; nobody told it the match ended.
+  const std::uint32_t applied = client.with_lock([&] { return last_applied(client.snapshots(), reply->client_id); });
+  EXPECT_TRUE(client.wait_until([&] { return last_applied(client.snapshots(), reply->client_id) > applied + 10; }, 10s));
+  stop.store(true);
+  commands.join();
+  EXPECT_TRUE(client.with_lock([&] {
+    for (const auto& m : client.match_infos())
+      if (m.state == protocol::MatchState::ended) return false;
+    return true;
+  }));
+  standby.stop();
+  const nlohmann::json p = standby.standby().primary_summary();
+  EXPECT_EQ(p["epoch"], 2);
+  EXPECT_EQ(p["clients_connected_at_end"], 1);
 }
 
 TEST(Standby, WithoutAPrimaryEndsAtItsDurationSayingItNeverHadTheMatch) {

@@ -20,6 +20,7 @@ v1::ContactPairs to_idl(const ContactPairs& m);
 v1::TickEntry to_idl(const TickEntry& m);
 v1::StandbyRequest to_idl(const StandbyRequest& m);
 v1::StandbySync to_idl(const StandbySync& m);
+v1::PrimaryClaim to_idl(const PrimaryClaim& m);
 
 JoinRequest from_idl(v1::JoinRequest&& s);
 JoinReply from_idl(v1::JoinReply&& s);
@@ -33,5 +34,6 @@ ContactPairs from_idl(v1::ContactPairs&& s);
 TickEntry from_idl(v1::TickEntry&& s);
 StandbyRequest from_idl(v1::StandbyRequest&& s);
 StandbySync from_idl(v1::StandbySync&& s);
+PrimaryClaim from_idl(v1::PrimaryClaim&& s);
 
 }  // namespace throng::protocol::dds_detail

@@ -124,6 +124,7 @@ void Participant::create_standby_topics() {
   topics_.tick_inputs = make_topic<v1::TickEntryPubSubType>(*participant_, kTopicTickInputs, w);
   topics_.standby_request = make_topic<v1::StandbyRequestPubSubType>(*participant_, kTopicStandbyRequest, w);
   topics_.standby_sync = make_topic<v1::StandbySyncPubSubType>(*participant_, kTopicStandbySync, w);
+  topics_.primary = make_topic<v1::PrimaryClaimPubSubType>(*participant_, kTopicPrimary, w);
 }
 
 std::string Participant::identity_of(const ParticipantKey& key) const { return identities_->identity_of(key); }

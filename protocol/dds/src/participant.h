@@ -39,6 +39,7 @@ struct Topics {
   eprosima::fastdds::dds::Topic* tick_inputs = nullptr;
   eprosima::fastdds::dds::Topic* standby_request = nullptr;
   eprosima::fastdds::dds::Topic* standby_sync = nullptr;
+  eprosima::fastdds::dds::Topic* primary = nullptr;
 };
 
 // Remembers the authenticated identity of each remote participant (DDS Security only): Fast DDS

@@ -31,6 +31,7 @@ inline constexpr TopicProfiles kContactsProfiles{"throng_contacts_writer", "thro
 inline constexpr TopicProfiles kTickInputsProfiles{"throng_tick_inputs_writer", "throng_tick_inputs_reader"};
 inline constexpr TopicProfiles kStandbyRequestProfiles{"throng_standby_request_writer", "throng_standby_request_reader"};
 inline constexpr TopicProfiles kStandbySyncProfiles{"throng_standby_sync_writer", "throng_standby_sync_reader"};
+inline constexpr TopicProfiles kPrimaryProfiles{"throng_primary_writer", "throng_primary_reader"};
 inline constexpr const char* kLoopbackParticipantProfile = "throng_loopback_participant";
 
 inline constexpr int kMaxDomainId = 232;  // RTPS port mapping limit with Fast DDS's default ports

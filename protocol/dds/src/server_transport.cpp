@@ -33,6 +33,7 @@ struct ServerTransport::Impl {
   std::unique_ptr<TakeAllListener<v1::Command>> command_listener;
   std::unique_ptr<TakeAllListener<v1::ParamUpdate>> param_listener;
   std::unique_ptr<TakeAllListener<v1::StandbyRequest>> standby_request_listener;
+  std::unique_ptr<TakeAllListener<v1::PrimaryClaim>> primary_listener;
   MatchCounter tick_inputs_matches;
 
   Participant participant;
@@ -43,6 +44,7 @@ struct ServerTransport::Impl {
   // The hot standby's writers; null when this participant may not use those topics (below).
   dds::DataWriter* tick_inputs_writer = nullptr;
   dds::DataWriter* standby_sync_writer = nullptr;
+  dds::DataWriter* primary_writer = nullptr;
 
   std::mutex start_mutex;
   bool started = false;
@@ -65,6 +67,7 @@ struct ServerTransport::Impl {
       participant.create_standby_topics();
       tick_inputs_writer = &participant.create_writer(pub, *t.tick_inputs, kTickInputsProfiles.writer, &tick_inputs_matches);
       standby_sync_writer = &participant.create_writer(pub, *t.standby_sync, kStandbySyncProfiles.writer);
+      primary_writer = &participant.create_writer(pub, *t.primary, kPrimaryProfiles.writer);
     } catch (const TransportError& e) {
       // A security directory made before the standby topics existed grants the server none of
       // them: the match runs, without a standby.
@@ -113,18 +116,25 @@ void ServerTransport::start(Handlers handlers) {
         update.sender = meta.writer;
         h(std::move(update));
       });
-  if (s.standby_sync_writer != nullptr)
+  if (s.primary_writer != nullptr) {
     s.standby_request_listener = std::make_unique<TakeAllListener<v1::StandbyRequest>>(
         [h = std::move(handlers.on_standby_request)](v1::StandbyRequest&& r, const SampleMeta&) {
           if (h) h(from_idl(std::move(r)));
         });
+    s.primary_listener = std::make_unique<TakeAllListener<v1::PrimaryClaim>>(
+        [h = std::move(handlers.on_primary_claim)](v1::PrimaryClaim&& c, const SampleMeta&) {
+          if (h) h(from_idl(std::move(c)));
+        });
+  }
   const Topics& t = s.participant.topics();
   dds::Subscriber& sub = s.participant.subscriber();
   s.participant.create_reader(sub, *t.join_request, kJoinRequestProfiles.reader, s.join_listener.get());
   s.participant.create_reader(sub, *t.command, kCommandProfiles.reader, s.command_listener.get());
   s.participant.create_reader(sub, *t.param_update, kParamProfiles.reader, s.param_listener.get());
-  if (s.standby_request_listener)
+  if (s.standby_request_listener) {
     s.participant.create_reader(sub, *t.standby_request, kStandbyRequestProfiles.reader, s.standby_request_listener.get());
+    s.participant.create_reader(sub, *t.primary, kPrimaryProfiles.reader, s.primary_listener.get());
+  }
   s.started = true;
 }
 
@@ -160,6 +170,10 @@ void ServerTransport::publish_tick_entry(const TickEntry& entry) {
 
 void ServerTransport::publish_standby_sync(const StandbySync& sync) {
   if (impl_->standby_sync_writer != nullptr) impl_->publish_other(*impl_->standby_sync_writer, sync);
+}
+
+void ServerTransport::publish_primary_claim(const PrimaryClaim& claim) {
+  if (impl_->primary_writer != nullptr) impl_->publish_other(*impl_->primary_writer, claim);
 }
 
 void ServerTransport::open_client_channel(std::uint32_t client_id, const std::string& partition) {

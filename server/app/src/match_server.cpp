@@ -54,6 +54,8 @@ scene::SceneDef load_scaled_scene(const ServerOptions& o) {
   return s;
 }
 
+}  // namespace
+
 protocol::TransportOptions transport_options(const ServerOptions& o) {
   protocol::TransportOptions t{o.domain, o.loopback_only, "throng-server", std::nullopt};
   if (!o.security_dir.empty()) t.security = protocol::security_files(o.security_dir, protocol::kServerIdentity);
@@ -73,6 +75,8 @@ protocol::TransportOptions transport_options(const ServerOptions& o) {
   return t;
 }
 
+namespace {
+
 // The match id; from here on every log line carries it.
 std::string make_match_id(const std::string& scene_name) {
   const auto now = std::chrono::system_clock::now().time_since_epoch();
@@ -84,11 +88,25 @@ std::string make_match_id(const std::string& scene_name) {
 
 }  // namespace
 
+// A taken-over match runs with the primary's scene and match config, whatever the standby's own
+// options said.
+ServerOptions with_match_of(ServerOptions o, const MatchServer::Takeover* t) {
+  if (t != nullptr) {
+    o.scene = t->header.scene.name;
+    o.match = t->header.config;
+  }
+  return o;
+}
+
 struct MatchServer::Impl {
   ServerOptions options;
   scene::SceneDef scene;
   match::Match match;
-  protocol::ServerTransport transport;
+  std::uint64_t epoch = 1;  // +1 at every takeover (standby_server.h); fixed before run()
+  // A claim of a higher epoch for this match (another server took it over while this one was
+  // paused or cut off): set on a DDS thread, the tick loop then stops without another tick.
+  std::atomic<std::uint64_t> fenced_by{0};
+  std::unique_ptr<protocol::ServerTransport> transport;
   StandbyFeed standby_feed;  // tick entries and checkpoints for hot standbys
   admin::MetricsRegistry registry;
   ServerMetrics metrics{registry};
@@ -148,13 +166,15 @@ struct MatchServer::Impl {
   void check_empty(Clock::time_point now);
   void check_routed(Clock::time_point now);
 
-  explicit Impl(const ServerOptions& o)
-      : options(o),
-        scene(load_scaled_scene(o)),
-        match(scene, o.match, make_match_id(scene.name)),
-        transport(transport_options(o)),
-        standby_feed(scene, o.match, match.match_info().match_id),
-        operators_allowed(o.allow_anonymous_operator || !o.security_dir.empty()) {
+  Impl(const ServerOptions& given, Takeover* takeover)
+      : options(with_match_of(given, takeover)),
+        scene(takeover ? takeover->header.scene : load_scaled_scene(options)),
+        match(scene, options.match, takeover ? takeover->header.match_id : make_match_id(scene.name)),
+        transport(takeover ? std::move(takeover->transport) : std::make_unique<protocol::ServerTransport>(transport_options(options))),
+        standby_feed(scene, options.match, match.match_info().match_id),
+        operators_allowed(options.allow_anonymous_operator || !options.security_dir.empty()) {
+    const ServerOptions& o = options;
+    if (takeover) resume(*takeover);
     if (o.admin_port >= 0) {
       admin::AdminServerOptions ao;
       ao.bind_address = o.admin_bind;
@@ -164,7 +184,10 @@ struct MatchServer::Impl {
       };
       admin = std::make_unique<admin::AdminServer>(registry, [this] { return ready.load(); }, ao);
     }
-    if (!o.log_file.empty()) {
+    if (!o.log_file.empty() && takeover) {
+      spdlog::warn("a taken-over match writes no match log yet: the previous primary's log holds it up to tick {}",
+                   match.tick_index());
+    } else if (!o.log_file.empty()) {
       const std::string path =
           o.log_file == "auto" ? o.log_dir + "/" + match.match_info().match_id + ".tlog" : o.log_file;
       matchlog::WriterOptions wo;
@@ -180,6 +203,7 @@ struct MatchServer::Impl {
     }
   }
 
+  void resume(Takeover& t);
   void on_param_update(protocol::ParamUpdate&& u);
   void publish_outbox();
   void publish_stats(const match::TickReport& report);
@@ -188,6 +212,24 @@ struct MatchServer::Impl {
   void check_log();
   void finish_keyframe();
 };
+
+// A standby's takeover: the match as it followed it, each connected client's snapshot channel open
+// again (in the partition the client reads) so its snapshots continue from the next tick, the
+// clients in the summary.
+void MatchServer::Impl::resume(Takeover& t) {
+  set_log_match_id(t.header.match_id);
+  if (!transport) throw std::runtime_error("takeover without a transport");
+  match.restore_checkpoint(t.checkpoint);  // with the primary's snapshot baselines
+  epoch = t.epoch;
+  standby_feed.set_epoch(epoch);
+  for (const match::ClientSummary& c : match.clients()) {
+    transport->open_client_channel(c.client_id, c.partition);
+    ledger.joined(match::ClientEvent{match::ClientEvent::Kind::joined, c.client_id, c.entity, c.partition, c.name, 0, 0},
+                  c.joined_tick);
+  }
+  spdlog::warn("took over match {} at tick {} as epoch {}: {} clients keep their ids and entities", t.header.match_id,
+               match.tick_index(), epoch, match.client_count());
+}
 
 // The operator gate, on a DDS listener thread. With --security only identities granted the
 // operator permission can write ParamUpdate at all (DDS access control refuses other writers), so
@@ -208,7 +250,7 @@ void MatchServer::Impl::on_param_update(protocol::ParamUpdate&& u) {
   reply.request_id = u.request_id;
   reply.ok = false;
   reply.error = "not an operator";
-  transport.publish_param_reply(reply);
+  transport->publish_param_reply(reply);
 }
 
 // Collects the keyframe the saver thread took after the previous tick and appends it to the log.
@@ -255,7 +297,9 @@ void MatchServer::Impl::check_log() {
   }
 }
 
-MatchServer::MatchServer(const ServerOptions& options) : impl_(std::make_unique<Impl>(options)) {}
+MatchServer::MatchServer(const ServerOptions& options) : impl_(std::make_unique<Impl>(options, nullptr)) {}
+MatchServer::MatchServer(const ServerOptions& options, Takeover&& takeover)
+    : impl_(std::make_unique<Impl>(options, &takeover)) {}
 MatchServer::~MatchServer() = default;
 
 void MatchServer::request_stop() { impl_->request_end("stopped"); }
@@ -303,7 +347,7 @@ void MatchServer::Impl::check_empty(Clock::time_point now) {
   }
 }
 
-protocol::TransportCounters MatchServer::transport_counters() const { return impl_->transport.counters(); }
+protocol::TransportCounters MatchServer::transport_counters() const { return impl_->transport->counters(); }
 
 std::uint16_t MatchServer::admin_port() const { return impl_->admin ? impl_->admin->port() : 0; }
 
@@ -319,13 +363,13 @@ void MatchServer::Impl::publish_outbox() {
   for (const auto& e : outbox.client_events) {
     switch (e.kind) {
       case match::ClientEvent::Kind::joined:
-        transport.open_client_channel(e.client_id, e.partition);
+        transport->open_client_channel(e.client_id, e.partition);
         ledger.joined(e, match.tick_index());
         spdlog::info("client {} '{}' joined: controls entity {} (partition {})", e.client_id, e.name, e.entity, e.partition);
         break;
       case match::ClientEvent::Kind::left:
       case match::ClientEvent::Kind::timed_out:
-        transport.close_client_channel(e.client_id);
+        transport->close_client_channel(e.client_id);
         ledger.departed(e, match.tick_index());
         spdlog::info("client {} '{}' {}: entity {} handed back to the AI", e.client_id, e.name,
                      e.kind == match::ClientEvent::Kind::left ? "left" : "timed out (no command)", e.entity);
@@ -333,18 +377,18 @@ void MatchServer::Impl::publish_outbox() {
     }
   }
   // The contacts debug channel (server/match/src/match_contacts.cpp): granted clients only.
-  for (std::size_t i = 0; i < outbox.contacts_count; ++i) transport.publish_contacts(outbox.contacts[i]);
+  for (std::size_t i = 0; i < outbox.contacts_count; ++i) transport->publish_contacts(outbox.contacts[i]);
   for (const auto& r : outbox.join_replies) {
-    transport.publish_join_reply(r);
+    transport->publish_join_reply(r);
     if (r.result != protocol::JoinResult::accepted && r.result != protocol::JoinResult::left)
       spdlog::warn("join refused ({}): {}", protocol::to_string(r.result), r.reason);
   }
   for (const auto& r : outbox.param_replies) {
-    transport.publish_param_reply(r);
+    transport->publish_param_reply(r);
     if (r.ok) spdlog::info("operator change {} applied at tick {} (param version {})", r.request_id, r.tick, r.param_version);
     else spdlog::warn("operator change {} rejected: {}", r.request_id, r.error);
   }
-  if (outbox.match_info_changed) transport.publish_match_info(match.match_info());
+  if (outbox.match_info_changed) transport->publish_match_info(match.match_info());
 }
 
 void MatchServer::Impl::publish_stats(const match::TickReport& report) {
@@ -359,13 +403,13 @@ void MatchServer::Impl::publish_stats(const match::TickReport& report) {
   st.overruns = schedule->overruns();
   st.commands_accepted = match.commands_accepted_total();
   for (auto n : match.rejected_by_reason()) st.commands_rejected += n;
-  const auto c = transport.counters();
+  const auto c = transport->counters();
   st.snapshot_bytes = c.snapshot_bytes;
   st.snapshot_samples = c.snapshot_samples;
   st.push_events = push_events_total;
   st.state_hash = report.state_hash;
   st.state = finished ? protocol::MatchState::ended : protocol::MatchState::running;
-  transport.publish_stats(st);
+  transport->publish_stats(st);
   tick_window.reset();
 }
 
@@ -378,7 +422,7 @@ void MatchServer::Impl::run_tick(Clock::time_point woke) {
   const match::TickReport& report = match.tick(outbox);
   const std::uint8_t log_flags = stopping ? matchlog::kTickShutdownBegan : 0;
   if (log) log->append_tick(report.tick, match.last_inputs(), report.state_hash, log_flags);
-  standby_feed.after_tick(match, report.tick, report.state_hash, log_flags, transport);
+  standby_feed.after_tick(match, report.tick, report.state_hash, log_flags, *transport);
   if (log && log->keyframe_interval_ticks() > 0 && report.tick % log->keyframe_interval_ticks() == 0)
     keyframe_saver.start(match, report.tick);  // runs beside publish_outbox (both only read the match)
   const auto published_at = Clock::now();
@@ -430,7 +474,7 @@ void MatchServer::Impl::run_tick(Clock::time_point woke) {
   const auto& by_reason = match.rejected_by_reason();
   for (std::size_t i = 0; i < by_reason.size(); ++i) raise_to(*metrics.commands_rejected[i], by_reason[i]);
   raise_to(metrics.input_queue_dropped, match.inputs().dropped());
-  const auto c = transport.counters();
+  const auto c = transport->counters();
   raise_to(metrics.snapshot_samples, c.snapshot_samples);
   raise_to(metrics.snapshot_bytes, c.snapshot_bytes);
   raise_to(metrics.other_samples, c.other_samples);
@@ -464,7 +508,7 @@ void MatchServer::Impl::run_tick(Clock::time_point woke) {
 void MatchServer::Impl::log_progress(Clock::time_point now) {
   const double window_s = seconds_between(last_progress, now);
   last_progress = now;
-  const auto c = transport.counters();
+  const auto c = transport->counters();
   // Both the match so far and the last window: a soak compares windows (deploy/soak.sh reads them).
   spdlog::info("tick {} | clients {} | tick p50 {:.2f} ms p99 {:.2f} ms max {:.2f} ms | last {:.0f} s: p50 {:.2f} ms "
                "p99 {:.2f} ms | overruns {} | snapshots {:.0f} kbit/s total",
@@ -491,16 +535,23 @@ int MatchServer::run(bool handle_signals) {
     });
   }
 
-  m.transport.start(protocol::ServerTransport::Handlers{
+  m.transport->start(protocol::ServerTransport::Handlers{
       [&m](protocol::JoinRequest&& r) { m.match.inputs().push(std::move(r)); },
       [&m](protocol::Command&& c) { m.match.inputs().push(std::move(c)); },
       [&m](protocol::ParamUpdate&& u) { m.on_param_update(std::move(u)); },
       [&m](protocol::StandbyRequest&& r) { m.standby_feed.on_request(std::move(r)); },
+      [&m, id = m.match.match_info().match_id](protocol::PrimaryClaim&& c) {
+        if (c.match_id == id && c.epoch > m.epoch && m.fenced_by.load() == 0) {
+          m.fenced_by.store(c.epoch);
+          m.request_end("fenced");
+        }
+      },
   });
-  m.transport.publish_match_info(m.match.match_info());
+  m.transport->publish_primary_claim(protocol::PrimaryClaim{m.match.match_info().match_id, m.epoch, m.match.tick_index()});
+  m.transport->publish_match_info(m.match.match_info());
   // Publish each snapshot from the worker that built it (the transport is thread-safe), so
   // building and publishing overlap across clients.
-  m.match.set_snapshot_sink([&m](const protocol::Snapshot& s) { m.transport.publish_snapshot(s); });
+  m.match.set_snapshot_sink([&m](const protocol::Snapshot& s) { m.transport->publish_snapshot(s); });
 
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / m.options.match.tick_hz));
   m.started = Clock::now();
@@ -543,6 +594,13 @@ int MatchServer::run(bool handle_signals) {
     timer.async_wait([&](const boost::system::error_code& ec) {
       if (ec) return;
       const auto woke = Clock::now();
+      if (m.fenced_by.load() != 0) {
+        // Replaced: not one more tick, not even the shutdown tick (its "ended" would tell the
+        // clients of the new primary that their match is over).
+        m.finished = true;
+        signals.cancel();
+        return;
+      }
       if (woke >= end_at) m.request_end("duration");
       m.run_tick(woke);
       if (m.finished) {
@@ -555,7 +613,11 @@ int MatchServer::run(bool handle_signals) {
   arm();
   io.run();
 
-  m.transport.flush(std::chrono::seconds(2));  // clients must hear "ended" before we vanish
+  if (m.fenced_by.load() != 0)
+    spdlog::error("match {} is hosted by another server now (epoch {}, this server's {}): this server was replaced while "
+                  "it was paused or cut off, and stops hosting it at tick {}", m.match.match_info().match_id,
+                  m.fenced_by.load(), m.epoch, m.match.tick_index());
+  m.transport->flush(std::chrono::seconds(2));  // clients must hear "ended" before we vanish
   if (m.log) {
     try {
       m.finish_keyframe();  // the last tick may have been a keyframe tick
@@ -598,13 +660,14 @@ int MatchServer::run(bool handle_signals) {
   if (m.standby_feed.stats().syncs_sent > 0)
     spdlog::info("hot standby: {} tick entries published, {} checkpoints sent", m.standby_feed.stats().entries_published,
                  m.standby_feed.stats().syncs_sent);
-  spdlog::info("match ended after {} ticks; exit 0", m.match.tick_index());
-  return 0;
+  const int code = m.fenced_by.load() != 0 ? kExitFenced : 0;
+  spdlog::info("match ended after {} ticks; exit {}", m.match.tick_index(), code);
+  return code;
 }
 
 nlohmann::json MatchServer::summary() const {
   const Impl& m = *impl_;
-  SummaryInputs in{m.match, m.ledger, m.tick_all, m.phases, *m.schedule, m.transport.counters(), 0.0, 0, 0, 0.0, {}};
+  SummaryInputs in{m.match, m.ledger, m.tick_all, m.phases, *m.schedule, m.transport->counters(), 0.0, 0, 0, 0.0, {}};
   in.wall_seconds = m.wall_seconds;
   in.push_events = m.push_events_total;
   in.poses = m.poses_total;
@@ -613,7 +676,9 @@ nlohmann::json MatchServer::summary() const {
   in.param_not_operator = m.param_not_operator_total.load();
   in.scene_name = m.scene.name;
   in.end_reason = m.end_reason;
-  return make_summary(in);
+  nlohmann::json j = make_summary(in);
+  j["epoch"] = m.epoch;
+  return j;
 }
 
 }  // namespace throng::server

@@ -98,6 +98,10 @@ ParseResult parse_server_options(const std::vector<std::string>& args) {
                "be a hot standby of the match on this DDS domain instead of hosting one: take the primary's match "
                "(scene, config, a checkpoint), follow it tick by tick, check every tick's state hash, publish nothing "
                "to clients (docs/design/standby.md). --scene, --npcs and the match options are the primary's");
+  app.add_option("--takeover-after-ticks", o.takeover_after_ticks,
+                 "with --standby: take the match over when the primary has sent nothing for this many ticks (it then "
+                 "hosts the match from the next tick; clients keep their ids and do not rejoin); 0 = never, only follow")
+      ->check(CLI::Range(0u, 3000u));
   app.add_option("--summary-json", o.summary_json, "write the end-of-match summary to this JSON file");
   app.add_option("--log-format", o.log_format, "text, or json: one JSON object per line (time, level, match, msg)")
       ->check(CLI::IsMember({"text", "json"}));

@@ -10,6 +10,7 @@
 namespace throng::server {
 
 StandbyFeed::StandbyFeed(const scene::SceneDef& scene, const match::MatchConfig& config, const std::string& match_id) {
+  sync_.epoch = 1;
   matchlog::LogHeader h;
   h.match_id = match_id;
   h.scene = scene;

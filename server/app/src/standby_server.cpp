@@ -23,6 +23,7 @@
 #include "throng/protocol/dds_transport.h"
 #include "throng/protocol/security.h"
 #include "throng/server/log_setup.h"
+#include "throng/server/match_server.h"
 #include "throng/world/world.h"
 
 namespace throng::server {
@@ -57,7 +58,13 @@ protocol::TransportOptions standby_transport_options(const ServerOptions& o) {
 struct StandbyServer::Impl {
   ServerOptions options;
   std::uint64_t nonce = random_nonce();
-  protocol::StandbyTransport transport;
+  std::unique_ptr<protocol::StandbyTransport> transport;
+  // The transport it hosts the match with after a takeover, created now: clients and their
+  // readers discover it while the standby follows, not in the ticks after the primary died.
+  std::unique_ptr<protocol::ServerTransport> server_transport;
+  // Arrival of the newest tick entry (steady clock, ns), written on the DDS thread: how long the
+  // primary has been silent, whatever the follow loop is doing.
+  std::atomic<std::int64_t> last_arrival_ns{0};
 
   // Filled by DDS listener threads, emptied by the follow loop.
   std::mutex queue_mutex;
@@ -72,6 +79,8 @@ struct StandbyServer::Impl {
 
   // The follow loop's own.
   std::unique_ptr<matchlog::MatchFollower> follower;  // non-null once an answer restored
+  matchlog::LogHeader header;                         // the primary's, from its answer
+  std::uint64_t primary_epoch = 1;                    // from its answer
   std::deque<protocol::TickEntry> waiting;            // entries before the first answer
   bool requested = false;
   Clock::time_point last_request{};
@@ -83,7 +92,16 @@ struct StandbyServer::Impl {
   mutable std::mutex status_mutex;
   StandbyStatus st;  // guarded by status_mutex (written by the loop, read by status())
 
-  explicit Impl(const ServerOptions& o) : options(o), transport(standby_transport_options(o)) {}
+  // After a takeover: the match server this standby became (guarded by primary_mutex).
+  std::mutex primary_mutex;
+  std::unique_ptr<MatchServer> primary;
+  bool took_over = false;
+
+  explicit Impl(const ServerOptions& o)
+      : options(o),
+        transport(std::make_unique<protocol::StandbyTransport>(standby_transport_options(o))),
+        server_transport(o.takeover_after_ticks > 0 ? std::make_unique<protocol::ServerTransport>(transport_options(o))
+                                                    : nullptr) {}
 
   void request_end(const char* reason) {
     {
@@ -99,13 +117,22 @@ struct StandbyServer::Impl {
   void apply_entry(protocol::TickEntry&& entry, Clock::time_point now);
   void check_silence(Clock::time_point now);
   void publish_status();
-  void follow_loop(Clock::time_point end_at);
+  bool primary_gone(Clock::time_point now) const;
+  // Follows until the end or a takeover; true for a takeover.
+  bool follow_loop(Clock::time_point end_at);
+  int host_the_match(bool handle_signals);
 };
 
 StandbyServer::StandbyServer(const ServerOptions& options) : impl_(std::make_unique<Impl>(options)) {}
 StandbyServer::~StandbyServer() = default;
 
-void StandbyServer::request_stop() { impl_->request_end("stopped"); }
+void StandbyServer::request_stop() {
+  {
+    std::lock_guard<std::mutex> lock(impl_->primary_mutex);
+    if (impl_->primary) impl_->primary->request_stop();
+  }
+  impl_->request_end("stopped");
+}
 
 StandbyStatus StandbyServer::status() const {
   std::lock_guard<std::mutex> lock(impl_->status_mutex);
@@ -123,12 +150,12 @@ void StandbyServer::Impl::maybe_request(Clock::time_point now) {
     return;
   }
   if (requested && now - last_request < kRequestRetry) return;
-  if (!transport.wait_for_primary(std::chrono::milliseconds(0))) return;
+  if (!transport->wait_for_primary(std::chrono::milliseconds(0))) return;
   protocol::StandbyRequest r;
   r.standby_nonce = nonce;
   r.have_tick = follower ? follower->tick() : 0;
   try {
-    transport.request_sync(r);
+    transport->request_sync(r);
   } catch (const protocol::TransportError& e) {
     spdlog::warn("standby: cannot ask the primary for the match: {}", e.what());
   }
@@ -141,29 +168,31 @@ void StandbyServer::Impl::maybe_request(Clock::time_point now) {
 
 void StandbyServer::Impl::apply_sync(protocol::StandbySync&& sync) {
   try {
-    const matchlog::LogHeader header =
+    const matchlog::LogHeader answer =
         matchlog::header_from_json_text(std::string(sync.header_json.begin(), sync.header_json.end()));
-    const bool fresh = !follower || header.match_id != st.match_id;
+    const bool fresh = !follower || answer.match_id != st.match_id;
     std::unique_ptr<matchlog::MatchFollower> built;
     if (fresh) {
-      if (header.build_id != matchlog::default_build_id())
+      if (answer.build_id != matchlog::default_build_id())
         spdlog::warn("standby: the primary runs build '{}', this standby '{}': a different build may diverge (every "
-                     "tick's state hash will tell)", header.build_id, matchlog::default_build_id());
-      built = std::make_unique<matchlog::MatchFollower>(header);
+                     "tick's state hash will tell)", answer.build_id, matchlog::default_build_id());
+      built = std::make_unique<matchlog::MatchFollower>(answer);
     }
     matchlog::MatchFollower& f = fresh ? *built : *follower;
     f.on_checkpoint(sync.checkpoint);  // throws with the follower unchanged
     if (fresh) {
       follower = std::move(built);
-      set_log_match_id(header.match_id);
+      header = answer;
+      set_log_match_id(answer.match_id);
       spdlog::info("standby: following match {} (scene '{}', {} bodies, {} Hz) from tick {} ({} kB checkpoint)",
-                   header.match_id, header.scene.name, f.match().world().pos_x().size(), header.config.tick_hz,
+                   answer.match_id, answer.scene.name, f.match().world().pos_x().size(), answer.config.tick_hz,
                    sync.tick, sync.checkpoint.size() / 1024);
     } else {
       spdlog::info("standby: resynchronised from the primary's checkpoint after tick {}", sync.tick);
     }
+    primary_epoch = sync.epoch;
     std::lock_guard<std::mutex> lock(status_mutex);
-    st.match_id = header.match_id;
+    st.match_id = answer.match_id;
     st.synced = true;
     ++st.syncs_received;
   } catch (const std::exception& e) {
@@ -235,7 +264,18 @@ void StandbyServer::Impl::publish_status() {
   st.primary_ended = (follower->last_applied_flags() & matchlog::kTickShutdownBegan) != 0;
 }
 
-void StandbyServer::Impl::follow_loop(Clock::time_point end_at) {
+// The primary's stream stopped for longer than the takeover limit while this standby held every
+// tick up to the last one it sent: the standby can continue the match exactly.
+bool StandbyServer::Impl::primary_gone(Clock::time_point now) const {
+  if (options.takeover_after_ticks == 0 || !follower || follower->state() != matchlog::FollowState::following) return false;
+  if ((follower->last_applied_flags() & matchlog::kTickShutdownBegan) != 0) return false;
+  const std::int64_t last = last_arrival_ns.load();
+  if (last == 0) return false;
+  const auto limit = std::chrono::duration<double>(static_cast<double>(options.takeover_after_ticks) / header.config.tick_hz);
+  return now - Clock::time_point(Clock::duration(last)) > limit;
+}
+
+bool StandbyServer::Impl::follow_loop(Clock::time_point end_at) {
   std::deque<protocol::TickEntry> batch;
   std::optional<protocol::StandbySync> sync;
   while (!stop_requested.load()) {
@@ -256,9 +296,41 @@ void StandbyServer::Impl::follow_loop(Clock::time_point end_at) {
     sync.reset();
     for (protocol::TickEntry& e : batch) apply_entry(std::move(e), Clock::now());
     batch.clear();
-    check_silence(Clock::now());
     publish_status();
+    if (primary_gone(Clock::now())) return true;
+    check_silence(Clock::now());
   }
+  return false;
+}
+
+// The takeover: the followed match, saved with its snapshot baselines, becomes a MatchServer on
+// the transport made at start; it runs until the match ends as any primary does.
+int StandbyServer::Impl::host_the_match(bool handle_signals) {
+  const auto t0 = Clock::now();
+  const std::uint64_t silent_ms =
+      std::chrono::duration_cast<std::chrono::milliseconds>(t0 - Clock::time_point(Clock::duration(last_arrival_ns.load()))).count();
+  MatchServer::Takeover t;
+  t.header = header;
+  follower->match().save_checkpoint(t.checkpoint, match::SaveOptions{.snapshot_baselines = true});
+  t.epoch = primary_epoch + 1;
+  t.transport = std::move(server_transport);
+  spdlog::warn("standby: the primary has sent nothing for {} ms (limit {} ticks) after tick {}: taking over the match",
+               silent_ms, options.takeover_after_ticks, follower->tick());
+  ServerOptions o = options;
+  if (o.duration_s > 0) o.duration_s = std::max(0.1, o.duration_s - wall_seconds);  // --duration counts from the start
+  {
+    std::lock_guard<std::mutex> lock(primary_mutex);
+    primary = std::make_unique<MatchServer>(o, std::move(t));
+    took_over = true;
+  }
+  {
+    std::lock_guard<std::mutex> lock(status_mutex);
+    st.took_over = true;
+  }
+  spdlog::info("standby: took over in {:.1f} ms", std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+  if (stop_requested.load()) primary->request_stop();
+  const int code = primary->run(handle_signals);
+  return code;
 }
 
 int StandbyServer::run(bool handle_signals) {
@@ -277,8 +349,9 @@ int StandbyServer::run(bool handle_signals) {
     signal_thread = std::thread([&io] { io.run(); });
   }
 
-  m.transport.start(protocol::StandbyTransport::Handlers{
+  m.transport->start(protocol::StandbyTransport::Handlers{
       [&m](protocol::TickEntry&& e) {
+        m.last_arrival_ns.store(Clock::now().time_since_epoch().count());
         {
           std::lock_guard<std::mutex> lock(m.queue_mutex);
           m.queued.push_back(std::move(e));
@@ -303,18 +376,30 @@ int StandbyServer::run(bool handle_signals) {
                m.options.security_dir.empty() ? "" : ", DDS Security with the server identity");
 
   if (!m.options.log_file.empty() || m.options.admin_port >= 0)
-    spdlog::info("standby: it writes no match log and serves no admin HTTP yet (--log and --admin-port apply to a "
-                 "primary); the primary's log records the match");
+    spdlog::info("standby: it writes no match log and serves no admin HTTP while it follows (--log and --admin-port "
+                 "apply after a takeover)");
+  spdlog::info("standby: {}", m.options.takeover_after_ticks > 0
+                                  ? fmt::format("takes over when the primary sends nothing for {} ticks",
+                                                m.options.takeover_after_ticks)
+                                  : std::string("never takes over (--takeover-after-ticks 0)"));
   const auto started = Clock::now();
   const auto end_at = m.options.duration_s > 0
                           ? started + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(m.options.duration_s))
                           : Clock::time_point::max();
-  m.follow_loop(end_at);
+  const bool takeover = m.follow_loop(end_at);
   m.wall_seconds = std::chrono::duration<double>(Clock::now() - started).count();
   if (handle_signals) {
     signals.cancel();
     io.stop();
     signal_thread.join();
+  }
+  if (takeover) {
+    // The standby's own readers go first: the new primary's tick entries are for standbys of its own.
+    m.transport.reset();
+    const StandbyStatus st = status();
+    spdlog::info("standby: applied {} ticks with the primary's hash, {} checkpoints, before the takeover",
+                 st.follower.applied, st.follower.checkpoints);
+    return m.host_the_match(handle_signals);
   }
 
   const nlohmann::json s = summary();
@@ -336,6 +421,11 @@ int StandbyServer::run(bool handle_signals) {
   const int code = !st.synced ? 4 : st.following ? 0 : 3;
   spdlog::info("standby ended after {:.1f} s; exit {}", m.wall_seconds, code);
   return code;
+}
+
+nlohmann::json StandbyServer::primary_summary() const {
+  std::lock_guard<std::mutex> lock(impl_->primary_mutex);
+  return impl_->primary ? impl_->primary->summary() : nlohmann::json();
 }
 
 nlohmann::json StandbyServer::summary() const {
@@ -361,6 +451,7 @@ nlohmann::json StandbyServer::summary() const {
       {"primary_tick", st.primary_tick},
       {"state_hash", fmt::format("{:016x}", st.state_hash)},
       {"primary_ended", st.primary_ended},
+      {"took_over", st.took_over},
       {"ticks_applied", st.follower.applied},
       {"mismatches", st.follower.mismatches},
       {"first_mismatch_tick", st.follower.first_mismatch_tick},

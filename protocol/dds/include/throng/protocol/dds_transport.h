@@ -87,6 +87,7 @@ class ServerTransport {
     std::function<void(Command&&)> on_command;
     std::function<void(ParamUpdate&&)> on_param_update;
     std::function<void(StandbyRequest&&)> on_standby_request;  // a standby server asks for the match
+    std::function<void(PrimaryClaim&&)> on_primary_claim;      // every server's claim, this one's too
   };
   // Creates the participant, topics, the shared writers/readers. Throws TransportError.
   explicit ServerTransport(const TransportOptions& options);
@@ -120,6 +121,7 @@ class ServerTransport {
   bool standby_matched() const;
   void publish_tick_entry(const TickEntry& entry);
   void publish_standby_sync(const StandbySync& sync);
+  void publish_primary_claim(const PrimaryClaim& claim);
 
   TransportCounters counters() const;
 

@@ -55,7 +55,8 @@
 
 #define THRONG_TICK_ENTRY_FIELDS(X) X(tick) X(entry)
 #define THRONG_STANDBY_REQUEST_FIELDS(X) X(standby_nonce) X(have_tick)
-#define THRONG_STANDBY_SYNC_FIELDS(X) X(standby_nonce) X(tick) X(header_json) X(checkpoint)
+#define THRONG_STANDBY_SYNC_FIELDS(X) X(standby_nonce) X(tick) X(epoch) X(header_json) X(checkpoint)
+#define THRONG_PRIMARY_CLAIM_FIELDS(X) X(match_id) X(epoch) X(tick)
 
 namespace throng::protocol::detail {
 
@@ -102,5 +103,6 @@ THRONG_CHECK_FIELD_LIST(ServerStats, THRONG_SERVER_STATS_FIELDS(THRONG_COUNT_FIE
 THRONG_CHECK_FIELD_LIST(TickEntry, THRONG_TICK_ENTRY_FIELDS(THRONG_COUNT_FIELD));
 THRONG_CHECK_FIELD_LIST(StandbyRequest, THRONG_STANDBY_REQUEST_FIELDS(THRONG_COUNT_FIELD));
 THRONG_CHECK_FIELD_LIST(StandbySync, THRONG_STANDBY_SYNC_FIELDS(THRONG_COUNT_FIELD));
+THRONG_CHECK_FIELD_LIST(PrimaryClaim, THRONG_PRIMARY_CLAIM_FIELDS(THRONG_COUNT_FIELD));
 
 }  // namespace throng::protocol

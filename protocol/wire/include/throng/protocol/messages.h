@@ -32,6 +32,7 @@ inline constexpr const char* kTopicContacts = "throng_v1_contacts";
 inline constexpr const char* kTopicTickInputs = "throng_v1_tick_inputs";
 inline constexpr const char* kTopicStandbyRequest = "throng_v1_standby_request";
 inline constexpr const char* kTopicStandbySync = "throng_v1_standby_sync";
+inline constexpr const char* kTopicPrimary = "throng_v1_primary";
 
 // The DDS participant a message came from: the GUID prefix of the writer of the sample, filled in
 // by the server's transport from the sample's metadata. Never part of a message a client
@@ -258,8 +259,20 @@ struct StandbyRequest {
 struct StandbySync {
   std::uint64_t standby_nonce = 0;
   std::uint64_t tick = 0;
+  std::uint64_t epoch = 0;  // the primary's (PrimaryClaim); a standby that takes over claims epoch + 1
   std::vector<std::uint8_t> header_json;
   std::vector<std::uint8_t> checkpoint;
+};
+
+// Which server hosts a match: every primary writes its claim when it starts hosting (epoch 1 for a
+// new match, the previous primary's + 1 after a takeover) and reads the others'. A primary that
+// sees a higher epoch for its own match has been replaced (it was paused or cut off while a
+// standby took over) and stops at once: no two servers ever keep hosting one match. Reliable,
+// transient-local, server to server only.
+struct PrimaryClaim {
+  std::string match_id;
+  std::uint64_t epoch = 0;
+  std::uint64_t tick = 0;  // the match tick the claim was made at
 };
 
 }  // namespace throng::protocol

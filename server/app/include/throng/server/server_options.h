@@ -56,6 +56,9 @@ struct ServerOptions {
   // --standby: follow the primary of this domain's match as a hot standby (standby_server.h)
   // instead of hosting one; the scene and match config come from the primary.
   bool standby = false;
+  // --takeover-after-ticks: the standby takes the match over when the primary's tick entries stop
+  // for this many ticks (0 = never: it only follows).
+  std::uint32_t takeover_after_ticks = 3;
   // Tests only: the standby calls it with each tick entry before following it (a test alters one
   // to make the standby diverge on purpose). Never set by the command line.
   std::function<void(std::uint64_t tick, std::vector<std::uint8_t>& entry)> standby_entry_hook_for_tests;

@@ -37,6 +37,7 @@ class StandbyFeed {
                   protocol::ServerTransport& transport);
 
   const StandbyFeedStats& stats() const { return stats_; }
+  void set_epoch(std::uint64_t epoch) { sync_.epoch = epoch; }  // the hosting server's (PrimaryClaim)
 
  private:
   std::vector<std::uint8_t> header_json_;  // the log header the standby builds its match from

@@ -2,7 +2,10 @@
 // throng-server --standby: a hot standby of the match on its DDS domain (docs/design/standby.md).
 // It asks the primary for the match (its log header and a checkpoint), then follows the primary's
 // tick entries through a matchlog::MatchFollower, checking every tick's state hash; a divergent
-// tick or entries it missed make it ask again. It publishes nothing to clients.
+// tick or entries it missed make it ask again. It publishes nothing to clients while it follows.
+// When the primary's tick entries stop for --takeover-after-ticks ticks while the standby holds
+// every tick the primary sent, it takes the match over: from the next tick it hosts it as a
+// MatchServer (same match id, clients, entities, command sequences; clients do not rejoin).
 //
 // Threads: run() is the follow loop, the only thread that touches the follower's match; Fast DDS
 // listener threads only queue entries and answers; status() may be called from any thread.
@@ -31,6 +34,7 @@ struct StandbyStatus {
   std::uint64_t syncs_refused = 0;    // answers whose header or checkpoint did not load
   std::uint64_t entries_dropped_waiting = 0;  // entries dropped before the first answer (bounded wait)
   bool primary_ended = false;         // an applied tick said the primary began its shutdown
+  bool took_over = false;             // the standby now hosts the match (primary_summary())
   matchlog::FollowerStats follower;
 };
 
@@ -44,13 +48,16 @@ class StandbyServer {
   StandbyServer& operator=(const StandbyServer&) = delete;
 
   // Follows until the primary ends the match, --duration passes, request_stop() is called or
-  // SIGINT/SIGTERM arrives (when handle_signals). Prints the summary; returns the exit code: 0, or
-  // 3 when the standby's match was diverged from the primary's at the end.
+  // SIGINT/SIGTERM arrives (when handle_signals). Prints the summary; returns the exit code: 0, 3
+  // when the standby's match was diverged from the primary's at the end, 4 when it never had it.
+  // After a takeover it hosts the match and returns MatchServer::run's code.
   int run(bool handle_signals = true);
   void request_stop();  // thread-safe
 
   StandbyStatus status() const;  // thread-safe
-  nlohmann::json summary() const;
+  nlohmann::json summary() const;   // the standby's figures (up to a takeover)
+  // After a takeover: the hosted match's summary (MatchServer::summary()); null before.
+  nlohmann::json primary_summary() const;
 
  private:
   struct Impl;
