@@ -147,6 +147,12 @@ int run_export(const ExportOptions& o) {
     fmt::print(stderr, "throng-replay export: --from {} --to {}: need 1 <= from <= to\n", o.from, to);
     return kExitBadInput;
   }
+  if (const std::uint64_t base = matchlog::start_keyframe_tick(s); base > 0) {
+    fmt::print(stderr, "throng-replay export: this log starts after tick {} from a checkpoint (a hot standby's log); "
+                       "export re-simulates from tick 1 and does not read such logs yet (verify, seek and play do)\n",
+               base);
+    return kExitBadInput;
+  }
   // Re-simulation needs every tick from 1 to `to`.
   const std::uint64_t contiguous_last = s.gaps.empty() ? s.last_tick : s.gaps.front().first_tick - 1;
   if (to > contiguous_last) {

@@ -123,7 +123,10 @@ int run_info(const InfoOptions& o) {
     fmt::print("keyframes  none ({}): seeking re-simulates from tick 1\n",
                h.writer.keyframe_interval_ticks == 0 ? "the writer had keyframes off" : "none was written");
   }
-  for (const auto& g : s.gaps)
+  if (const std::uint64_t base = matchlog::start_keyframe_tick(s); base > 0)
+    fmt::print("starts     after tick {}, from its keyframe (a hot standby's log, or the log of a match it took over)\n",
+               base);
+  for (const auto& g : matchlog::holes(s))
     fmt::print("gap        ticks {}..{} dropped by the writer (its backlog exceeded its cap), record at byte {}\n", g.first_tick,
                g.first_tick + g.count - 1, g.offset);
   switch (s.end) {

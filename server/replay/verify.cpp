@@ -53,8 +53,8 @@ int run_verify(const VerifyOptions& o) {
     if (!v.diff_note.empty()) fmt::print("Objects: {}\n", v.diff_note);
   };
   if (v.mismatch) {
-    fmt::print("MISMATCH at tick {}: the log has state hash {:016x}, the re-simulation gives {:016x}; ticks 1..{} matched ({})\n",
-               v.mismatch_tick, v.expected_hash, v.actual_hash, v.ticks_verified, speed);
+    fmt::print("MISMATCH at tick {}: the log has state hash {:016x}, the re-simulation gives {:016x}; ticks {}..{} matched ({})\n",
+               v.mismatch_tick, v.expected_hash, v.actual_hash, v.start_tick + 1, v.start_tick + v.ticks_verified, speed);
     print_objects();
     return kExitMismatch;
   }
@@ -65,12 +65,13 @@ int run_verify(const VerifyOptions& o) {
     return kExitMismatch;
   }
   if (v.stopped_at_gap) {
-    fmt::print("verified ticks 1..{}: all hashes match ({}); STOPPED: tick {} onwards cannot be re-simulated, the writer "
+    fmt::print("verified ticks {}..{}: all hashes match ({}); STOPPED: tick {} onwards cannot be re-simulated, the writer "
                "dropped ticks {}.. (its backlog exceeded its cap)\n",
-               v.ticks_verified, speed, v.gap_first_tick, v.gap_first_tick);
+               v.start_tick + 1, v.start_tick + v.ticks_verified, speed, v.gap_first_tick, v.gap_first_tick);
     return kExitDamaged;
   }
-  fmt::print("verified {} ticks (1..{}): all state hashes{} match ({})\n", v.ticks_verified, s.last_tick,
+  fmt::print("verified {} ticks ({}..{}{}): all state hashes{} match ({})\n", v.ticks_verified, v.start_tick + 1, s.last_tick,
+             v.start_tick > 0 ? fmt::format(", from the keyframe of tick {} the log starts with", v.start_tick) : "",
              s.keyframes.empty() ? "" : " and keyframes", speed);
   if (v.ticks_verified > 0) {
     const double n = static_cast<double>(v.ticks_verified);

@@ -9,6 +9,10 @@
 #include "matchlog_test_util.h"
 #include "throng/matchlog/follower.h"
 #include "throng/matchlog/format.h"
+#include "throng/matchlog/log_player.h"
+#include "throng/matchlog/reader.h"
+#include "throng/matchlog/replay.h"
+#include "throng/matchlog/writer.h"
 
 namespace throng::matchlog {
 namespace {
@@ -167,7 +171,9 @@ TEST(MatchFollower, BadBytesAreRefusedWithNothingChanged) {
 }
 
 TEST(MatchFollower, HoldsAtMostItsLimitKeepingTheNewest) {
-  MatchFollower f(match_header(), FollowerOptions{.max_held_ticks = 8});
+  FollowerOptions o;
+  o.max_held_ticks = 8;
+  MatchFollower f(match_header(), o);
   feed(f, 11, 30);
   EXPECT_EQ(f.held(), 8u);
   EXPECT_EQ(f.stats().held_dropped, 12u);
@@ -178,6 +184,78 @@ TEST(MatchFollower, HoldsAtMostItsLimitKeepingTheNewest) {
   EXPECT_EQ(f.tick(), 30u);
   EXPECT_EQ(f.state(), FollowState::following);
   EXPECT_EQ(f.held(), 0u);
+}
+
+// A standby's own log (MatchLogWriter::begin_from, FollowerOptions::on_applied): it starts from the
+// checkpoint the follower started from, holds every tick the follower applied, verifies from that
+// keyframe (one job and two) and seeks within it; every tick agrees with the primary's recording.
+TEST(StandbyLog, StartsFromTheCheckpointVerifiesAndSeeksFromIt) {
+  const std::filesystem::path path = test_dir() / "standby.tlog";
+  WriterOptions wo;
+  wo.keyframe_interval_ticks = 30;
+  wo.keyframe_slots = 8;  // the test appends within a millisecond, a server one keyframe a second
+  MatchLogWriter w(path.string(), wo);
+  MatchFollower* follower = nullptr;
+  std::vector<std::uint8_t> keyframe;
+  FollowerOptions fo;
+  fo.on_applied = [&](std::uint64_t tick, std::uint64_t hash, std::uint8_t flags, const match::TickInputs& inputs) {
+    w.append_tick(tick, inputs, hash, flags);
+    if (tick % w.keyframe_interval_ticks() == 0) {
+      follower->match().save_checkpoint(keyframe, match::SaveOptions{.snapshot_baselines = false});
+      w.append_keyframe_swap(tick, keyframe);
+    }
+  };
+  MatchFollower f(match_header(), fo);
+  follower = &f;
+  feed(f, 31, 47);
+  w.begin_from(match_header(), 30, std::vector<std::uint8_t>(checkpoint_after(30).begin(), checkpoint_after(30).end()));
+  f.on_checkpoint(checkpoint_after(30));
+  feed(f, 48, 150);
+  ASSERT_EQ(f.tick(), 150u);
+  w.close();
+
+  MatchLogReader r(path.string());
+  const LogScan& s = r.scan();
+  EXPECT_EQ(s.first_tick, 31u);
+  EXPECT_EQ(s.last_tick, 150u);
+  EXPECT_EQ(s.ticks, 120u);
+  EXPECT_EQ(s.end, LogEnd::closed);
+  EXPECT_EQ(start_keyframe_tick(s), 30u);
+  EXPECT_TRUE(holes(s).empty());
+  ASSERT_EQ(s.keyframes.size(), 5u) << "the start (tick 30), then 60, 90, 120 and 150";
+  TickCursor cursor(r);
+  ASSERT_TRUE(cursor.seek(31));
+  TickRecord t;
+  for (std::uint64_t tick = 31; tick <= 150; ++tick) {
+    ASSERT_TRUE(cursor.next(t));
+    ASSERT_EQ(t.tick, tick);
+    EXPECT_EQ(t.state_hash, played().ticks.at(tick - 1).state_hash) << "tick " << tick;
+    EXPECT_EQ(t.flags, played().ticks.at(tick - 1).flags);
+  }
+  for (unsigned jobs : {1u, 2u}) {
+    const VerifyResult v = verify_log(r, {}, 0, ResimOptions{}, jobs);
+    EXPECT_TRUE(v.all_match()) << "jobs " << jobs;
+    EXPECT_EQ(v.start_tick, 30u);
+    EXPECT_EQ(v.ticks_verified, 120u);
+    EXPECT_EQ(v.keyframes_checked, 4u) << "the keyframes of ticks 60, 90, 120 and 150";
+  }
+
+  LogPlayer p(path.string());
+  EXPECT_EQ(p.first_tick(), 31u);
+  EXPECT_EQ(p.last_tick(), 150u);
+  EXPECT_EQ(p.seek(100).logged_hash, played().ticks.at(99).state_hash);
+  EXPECT_EQ(p.match().state_hash(), played().ticks.at(99).state_hash);
+  EXPECT_EQ(p.seek(5).tick, 30u) << "nothing before the log's start";
+  EXPECT_EQ(p.match().state_hash(), played().ticks.at(29).state_hash);
+  ASSERT_TRUE(p.step());
+  EXPECT_TRUE(p.last_hash_matched());
+  EXPECT_EQ(p.tick(), 31u);
+}
+
+// begin_from(0) would be a log starting before tick 1: begin() is that.
+TEST(StandbyLog, BeginFromNeedsATickAfterTheStart) {
+  MatchLogWriter w((test_dir() / "x.tlog").string());
+  EXPECT_THROW(w.begin_from(match_header(), 0, {}), LogError);
 }
 
 }  // namespace

@@ -6,10 +6,13 @@
 
 #include <atomic>
 #include <csignal>
+#include <map>
 #include <thread>
 
 #include "server_test_support.h"
 #include "throng/matchlog/format.h"
+#include "throng/matchlog/reader.h"
+#include "throng/matchlog/replay.h"
 #include "throng/matchlog/tick_record.h"
 #include "throng/server/standby_server.h"
 
@@ -189,15 +192,29 @@ std::uint64_t longest_snapshot_gap(const std::deque<protocol::Snapshot>& snapsho
   return gap;
 }
 
+// Every tick's state hash in a log, by tick.
+std::map<std::uint64_t, std::uint64_t> logged_hashes(const std::string& path) {
+  matchlog::MatchLogReader r(path);
+  std::map<std::uint64_t, std::uint64_t> out;
+  matchlog::TickCursor cursor(r);
+  matchlog::TickRecord t;
+  if (!cursor.seek(r.scan().first_tick)) return out;
+  while (cursor.next(t)) out[t.tick] = t.state_hash;
+  return out;
+}
+
 // kill -9 of the primary (a process of its own): the standby in this process takes the match over
-// and the client, which never joins again, keeps its client id, entity and command sequence.
+// and the client, which never joins again, keeps its client id, entity and command sequence. The
+// standby's log, begun at its checkpoint and continued by the new primary, verifies, and agrees
+// with the dead primary's on every tick both hold.
 TEST(Standby, TakesOverWhenThePrimaryIsKilledAndItsClientPlaysOnWithoutRejoining) {
   TempDir dir("throng-takeover");
   ChildProcess primary(kServer,
-                       {"--scene", "battle", "--npcs", "400", "--domain", "166", "--admin-port", "-1", "--no-log",
-                        "--client-timeout", "30", "--log-level", "warn"},
+                       {"--scene", "battle", "--npcs", "400", "--domain", "166", "--admin-port", "-1", "--log",
+                        (dir / "primary.tlog").string(), "--client-timeout", "30", "--log-level", "warn"},
                        dir / "out.txt", dir / "err.txt");
   auto so = standby_options(small_server_options(166));
+  so.log_file = (dir / "standby.tlog").string();
   StandbyThread standby(so);
   TestClient client(166);
   const auto reply = client.join(9, "stays");
@@ -236,6 +253,22 @@ TEST(Standby, TakesOverWhenThePrimaryIsKilledAndItsClientPlaysOnWithoutRejoining
   EXPECT_EQ(p["rejected_by_reason"]["unknown_client"], 0) << p.dump(2);
   EXPECT_EQ(p["rejected_by_reason"]["foreign_participant"], 0) << p.dump(2);
   EXPECT_EQ(client.with_lock([&] { return client.replies().size(); }), 1u) << "the client never joined again";
+
+  matchlog::MatchLogReader log((dir / "standby.tlog").string());
+  EXPECT_GT(matchlog::start_keyframe_tick(log.scan()), 0u);
+  EXPECT_EQ(log.scan().last_tick, p["ticks"].get<std::uint64_t>()) << "the new primary went on in the standby's log";
+  const matchlog::VerifyResult v = matchlog::verify_log(log);
+  EXPECT_TRUE(v.all_match()) << "verified " << v.ticks_verified << " of " << v.ticks_total;
+  const auto mine = logged_hashes((dir / "standby.tlog").string());
+  const auto theirs = logged_hashes((dir / "primary.tlog").string());  // killed: readable up to its last block
+  std::size_t both = 0;
+  for (const auto& [tick, hash] : theirs) {
+    const auto it = mine.find(tick);
+    if (it == mine.end()) continue;
+    ++both;
+    EXPECT_EQ(it->second, hash) << "tick " << tick;
+  }
+  EXPECT_GE(both, 30u) << "ticks in both logs";
 }
 
 // SIGSTOP of the primary for longer than the takeover limit: the standby takes over; when the old

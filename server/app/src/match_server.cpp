@@ -184,9 +184,8 @@ struct MatchServer::Impl {
       };
       admin = std::make_unique<admin::AdminServer>(registry, [this] { return ready.load(); }, ao);
     }
-    if (!o.log_file.empty() && takeover) {
-      spdlog::warn("a taken-over match writes no match log yet: the previous primary's log holds it up to tick {}",
-                   match.tick_index());
+    if (takeover) {
+      log = std::move(takeover->log);  // the standby's log goes on (null: it had none)
     } else if (!o.log_file.empty()) {
       const std::string path =
           o.log_file == "auto" ? o.log_dir + "/" + match.match_info().match_id + ".tlog" : o.log_file;

@@ -20,6 +20,7 @@
 
 #include "throng/matchlog/format.h"
 #include "throng/matchlog/log_header.h"
+#include "throng/matchlog/writer.h"
 #include "throng/protocol/dds_transport.h"
 #include "throng/protocol/security.h"
 #include "throng/server/log_setup.h"
@@ -81,6 +82,11 @@ struct StandbyServer::Impl {
   std::unique_ptr<matchlog::MatchFollower> follower;  // non-null once an answer restored
   matchlog::LogHeader header;                         // the primary's, from its answer
   std::uint64_t primary_epoch = 1;                    // from its answer
+  // The standby's own match log, from the checkpoint of its first answer; closed (and reported)
+  // when the chain breaks, since a log cannot skip ticks it did not apply. Handed to the new
+  // primary at a takeover.
+  std::unique_ptr<matchlog::MatchLogWriter> log;
+  std::vector<std::uint8_t> keyframe;  // reused
   std::deque<protocol::TickEntry> waiting;            // entries before the first answer
   bool requested = false;
   Clock::time_point last_request{};
@@ -117,6 +123,9 @@ struct StandbyServer::Impl {
   void apply_entry(protocol::TickEntry&& entry, Clock::time_point now);
   void check_silence(Clock::time_point now);
   void publish_status();
+  void open_log(const matchlog::LogHeader& answer, const protocol::StandbySync& sync);
+  void log_tick(std::uint64_t tick, std::uint64_t state_hash, std::uint8_t flags, const match::TickInputs& inputs);
+  void stop_log(const std::string& why);
   bool primary_gone(Clock::time_point now) const;
   // Follows until the end or a takeover; true for a takeover.
   bool follow_loop(Clock::time_point end_at);
@@ -176,19 +185,26 @@ void StandbyServer::Impl::apply_sync(protocol::StandbySync&& sync) {
       if (answer.build_id != matchlog::default_build_id())
         spdlog::warn("standby: the primary runs build '{}', this standby '{}': a different build may diverge (every "
                      "tick's state hash will tell)", answer.build_id, matchlog::default_build_id());
-      built = std::make_unique<matchlog::MatchFollower>(answer);
+      matchlog::FollowerOptions fo;
+      fo.on_applied = [this](std::uint64_t tick, std::uint64_t hash, std::uint8_t flags, const match::TickInputs& in) {
+        log_tick(tick, hash, flags, in);
+      };
+      built = std::make_unique<matchlog::MatchFollower>(answer, fo);
     }
     matchlog::MatchFollower& f = fresh ? *built : *follower;
     f.on_checkpoint(sync.checkpoint);  // throws with the follower unchanged
     if (fresh) {
       follower = std::move(built);
       header = answer;
+      stop_log("the primary now hosts another match");
+      open_log(answer, sync);
       set_log_match_id(answer.match_id);
       spdlog::info("standby: following match {} (scene '{}', {} bodies, {} Hz) from tick {} ({} kB checkpoint)",
                    answer.match_id, answer.scene.name, f.match().world().pos_x().size(), answer.config.tick_hz,
                    sync.tick, sync.checkpoint.size() / 1024);
     } else {
       spdlog::info("standby: resynchronised from the primary's checkpoint after tick {}", sync.tick);
+      stop_log(fmt::format("it resynchronised from the checkpoint of tick {}", sync.tick));
     }
     primary_epoch = sync.epoch;
     std::lock_guard<std::mutex> lock(status_mutex);
@@ -237,6 +253,7 @@ void StandbyServer::Impl::apply_entry(protocol::TickEntry&& entry, Clock::time_p
   const matchlog::FollowerStats& fs = follower->stats();
   if (fs.mismatches > mismatches_logged) {
     mismatches_logged = fs.mismatches;
+    stop_log(fmt::format("tick {} diverged", fs.first_mismatch_tick));
     spdlog::error("standby: tick {} diverged from the primary (its state hash differs here): asking for the match again",
                   fs.first_mismatch_tick);
   }
@@ -262,6 +279,56 @@ void StandbyServer::Impl::publish_status() {
   st.following = follower->state() == matchlog::FollowState::following;
   st.follower = follower->stats();
   st.primary_ended = (follower->last_applied_flags() & matchlog::kTickShutdownBegan) != 0;
+}
+
+// From the first answer's checkpoint on (a log cannot start at tick 1 here: the ticks before it
+// never reached this standby). --log auto names it after the match and this process, so that it
+// never replaces the primary's log on a shared disk.
+void StandbyServer::Impl::open_log(const matchlog::LogHeader& answer, const protocol::StandbySync& sync) {
+  if (options.log_file.empty()) return;
+  const std::string path = options.log_file == "auto"
+                               ? fmt::format("{}/{}.standby-{}.tlog", options.log_dir, answer.match_id, ::getpid())
+                               : options.log_file;
+  try {
+    matchlog::WriterOptions wo;
+    wo.keyframe_snapshot_baselines = options.log_baselines;
+    wo.keyframe_interval_ticks = options.log_keyframe_ticks;
+    auto writer = std::make_unique<matchlog::MatchLogWriter>(path, wo);
+    matchlog::LogHeader h = answer;
+    h.build_id.clear();  // this binary's: it is the one that re-simulated the ticks
+    writer->begin_from(h, sync.tick, sync.checkpoint);
+    log = std::move(writer);
+    spdlog::info("standby: match log {} from tick {} (verify with: throng-replay verify {})", path, sync.tick + 1, path);
+  } catch (const std::exception& e) {
+    spdlog::error("standby: cannot start its match log {}: {}; it follows without one", path, e.what());
+  }
+}
+
+void StandbyServer::Impl::log_tick(std::uint64_t tick, std::uint64_t state_hash, std::uint8_t flags,
+                                   const match::TickInputs& inputs) {
+  if (!log) return;
+  if (tick != log->next_tick()) {
+    stop_log(fmt::format("tick {} came after tick {}", tick, log->next_tick() - 1));
+    return;
+  }
+  log->append_tick(tick, inputs, state_hash, flags);
+  const std::uint32_t every = log->keyframe_interval_ticks();
+  if (every > 0 && tick % every == 0) {
+    follower->match().save_checkpoint(keyframe, match::SaveOptions{.snapshot_baselines = options.log_baselines});
+    log->append_keyframe_swap(tick, keyframe);
+  }
+}
+
+void StandbyServer::Impl::stop_log(const std::string& why) {
+  if (!log) return;
+  const std::string path = log->path();
+  try {
+    log->close();
+    spdlog::warn("standby: its match log {} ends here: {} (a log cannot skip ticks; it verifies up to its end)", path, why);
+  } catch (const std::exception& e) {
+    spdlog::error("standby: its match log {}: {}", path, e.what());
+  }
+  log.reset();
 }
 
 // The primary's stream stopped for longer than the takeover limit while this standby held every
@@ -314,6 +381,7 @@ int StandbyServer::Impl::host_the_match(bool handle_signals) {
   follower->match().save_checkpoint(t.checkpoint, match::SaveOptions{.snapshot_baselines = true});
   t.epoch = primary_epoch + 1;
   t.transport = std::move(server_transport);
+  t.log = std::move(log);
   spdlog::warn("standby: the primary has sent nothing for {} ms (limit {} ticks) after tick {}: taking over the match",
                silent_ms, options.takeover_after_ticks, follower->tick());
   ServerOptions o = options;
@@ -392,6 +460,17 @@ int StandbyServer::run(bool handle_signals) {
     signals.cancel();
     io.stop();
     signal_thread.join();
+  }
+  if (!takeover && m.log) {
+    const std::string path = m.log->path();
+    try {
+      m.log->close();
+      const auto ls = m.log->stats();
+      spdlog::info("standby: match log {} closed: {} ticks (verify with: throng-replay verify {})", path, ls.ticks_written,
+                   path);
+    } catch (const std::exception& e) {
+      spdlog::error("standby: match log {}: {}", path, e.what());
+    }
   }
   if (takeover) {
     // The standby's own readers go first: the new primary's tick entries are for standbys of its own.

@@ -75,6 +75,7 @@ void MatchFollower::apply_held() {
     last_flags_ = t.flags;
     if (resim_.step(t) == primary_hash) {
       ++stats_.applied;
+      if (options_.on_applied) options_.on_applied(t.tick, primary_hash, t.flags, resim_.match().last_inputs());
     } else {
       ++stats_.mismatches;
       stats_.first_mismatch_tick = t.tick;

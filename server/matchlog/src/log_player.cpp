@@ -11,32 +11,52 @@ namespace throng::matchlog {
 struct LogPlayer::Impl {
   explicit Impl(const std::string& path, PlayerOptions o) : reader(path), options(o) {
     const LogScan& s = reader.scan();
-    last = s.ticks == 0 ? 0 : s.last_tick;
-    if (!s.gaps.empty()) last = std::min(last, s.gaps.front().first_tick - 1);
+    base = start_keyframe_tick(s);
+    last = s.ticks == 0 ? base : s.last_tick;
+    if (const auto h = holes(s); !h.empty()) last = std::min(last, h.front().first_tick - 1);
     restart();
   }
 
-  // A fresh Match before its first tick, the reader at tick 1.
+  // A fresh Match before its first tick, the reader at tick 1; for a log that starts from a
+  // checkpoint, the match restored from it, the reader at the tick after.
   void restart() {
     sim.reset();
     sim = std::make_unique<Resimulator>(reader.header(), options.resim);
     reader.rewind();
     rec = TickRecord{};
     matched = true;
+    if (base == 0) return;
+    const KeyframeInfo* k = reader.find_keyframe(base);
+    try {
+      read_into_sim(*k);
+    } catch (const std::exception& e) {
+      throw LogError(fmt::format("{}: the log starts from the keyframe of tick {}, which cannot be restored: {}",
+                                 reader.path(), base, e.what()));
+    }
+    reader.seek(base + 1);
+    rec.tick = base;
+  }
+
+  void read_into_sim(const KeyframeInfo& k) {
+    reader.read_keyframe(k, checkpoint);
+    if (!options.resim.exact_interest && !Resimulator::restores_with_fast_interest(checkpoint)) {
+      // A version 1 keyframe (an earlier build's log) restores only into the logged interest
+      // settings: from now on this player uses them.
+      options.resim.exact_interest = true;
+      sim = std::make_unique<Resimulator>(reader.header(), options.resim);
+    }
+    sim->restore(checkpoint);
   }
 
   // Jumps to a logged keyframe (in place: restore_checkpoint replaces the whole simulation state).
   // False if it cannot be restored (then keyframes are not used again; see keyframe_problem).
   bool restore(const KeyframeInfo& k) {
+    if (k.tick == base) {  // the log's start: no record of its own
+      restart();
+      return true;
+    }
     try {
-      reader.read_keyframe(k, checkpoint);
-      if (!options.resim.exact_interest && !Resimulator::restores_with_fast_interest(checkpoint)) {
-        // A version 1 keyframe (an earlier build's log) restores only into the logged interest
-        // settings: from now on this player uses them.
-        options.resim.exact_interest = true;
-        sim = std::make_unique<Resimulator>(reader.header(), options.resim);
-      }
-      sim->restore(checkpoint);
+      read_into_sim(k);
     } catch (const std::exception& e) {
       keyframe_problem = fmt::format("the keyframe of tick {} cannot be restored ({}); seeking re-simulates from tick 1",
                                      k.tick, e.what());
@@ -67,6 +87,7 @@ struct LogPlayer::Impl {
   MatchLogReader reader;
   PlayerOptions options;
   std::unique_ptr<Resimulator> sim;
+  std::uint64_t base = 0;  // the log starts after this tick, from its keyframe (0: from tick 1)
   std::uint64_t last = 0;
   TickRecord rec;
   bool matched = true;
@@ -81,7 +102,7 @@ LogPlayer::~LogPlayer() = default;
 const LogHeader& LogPlayer::header() const { return impl_->reader.header(); }
 const LogScan& LogPlayer::scan() const { return impl_->reader.scan(); }
 std::uint32_t LogPlayer::tick_hz() const { return impl_->reader.header().config.tick_hz; }
-std::uint64_t LogPlayer::first_tick() const { return impl_->last == 0 ? 0 : 1; }
+std::uint64_t LogPlayer::first_tick() const { return impl_->last <= impl_->base ? 0 : impl_->base + 1; }
 std::uint64_t LogPlayer::last_tick() const { return impl_->last; }
 std::uint64_t LogPlayer::tick() const { return impl_->sim->tick(); }
 
@@ -89,7 +110,7 @@ SeekResult LogPlayer::seek(std::uint64_t target) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   Impl& m = *impl_;
-  target = std::min(target, m.last);
+  target = std::max(std::min(target, m.last), m.base);
   SeekResult r;
   const KeyframeInfo* k = m.keyframe_problem.empty() ? m.reader.find_keyframe(target) : nullptr;
   if (k != nullptr && (k->tick > m.sim->tick() || target < m.sim->tick())) {

@@ -243,4 +243,14 @@ bool MatchLogReader::seek(std::uint64_t tick) {
   return true;
 }
 
+std::uint64_t start_keyframe_tick(const LogScan& s) {
+  if (s.gaps.empty() || s.keyframes.empty() || s.gaps.front().first_tick != 1) return 0;
+  const std::uint64_t t = s.gaps.front().count;
+  return s.keyframes.front().tick == t ? t : 0;
+}
+
+std::span<const GapInfo> holes(const LogScan& s) {
+  return std::span<const GapInfo>(s.gaps).subspan(start_keyframe_tick(s) > 0 ? 1 : 0);
+}
+
 }  // namespace throng::matchlog

@@ -218,7 +218,11 @@ VerifyResult verify_log(MatchLogReader& reader, const VerifyProgress& progress, 
   const LogScan& s = reader.scan();
   v.ticks_total = s.ticks;
   const auto t0 = Clock::now();
-  const std::uint64_t contiguous_last = s.ticks == 0 ? 0 : (s.gaps.empty() ? s.last_tick : s.gaps.front().first_tick - 1);
+  // A log that starts from a checkpoint is verified from it; its opening gap is no hole.
+  const std::uint64_t base = start_keyframe_tick(s);
+  const std::span<const GapInfo> gaps = holes(s);
+  v.start_tick = base;
+  const std::uint64_t contiguous_last = s.ticks == 0 ? base : (gaps.empty() ? s.last_tick : gaps.front().first_tick - 1);
   const bool keyframes = !s.keyframes.empty();
   jobs = std::max(1u, jobs);
 
@@ -226,11 +230,11 @@ VerifyResult verify_log(MatchLogReader& reader, const VerifyProgress& progress, 
   // threads idle at the end.
   std::vector<Range> ranges;
   {
-    std::vector<std::uint64_t> starts{0};
+    std::vector<std::uint64_t> starts{base};
     if (keyframes && jobs > 1) {
       std::vector<std::uint64_t> usable;
       for (const KeyframeInfo& k : s.keyframes)
-        if (k.tick < contiguous_last) usable.push_back(k.tick);
+        if (k.tick > base && k.tick < contiguous_last) usable.push_back(k.tick);
       const std::size_t r = std::min<std::size_t>(usable.size() + 1, 4 * static_cast<std::size_t>(jobs));
       for (std::size_t i = 1; i < r; ++i) starts.push_back(usable[i * (usable.size() + 1) / r - 1]);
     }
@@ -282,10 +286,10 @@ VerifyResult verify_log(MatchLogReader& reader, const VerifyProgress& progress, 
       v.mismatch_tick = o.tick;
       v.expected_hash = o.expected;
       v.actual_hash = o.actual;
-      v.ticks_verified = o.tick - 1;
+      v.ticks_verified = o.tick - 1 - base;
       break;
     }
-    v.ticks_verified = o.verified_through;
+    v.ticks_verified = o.verified_through - base;
     if (o.keyframe_mismatch) {
       v.keyframe_mismatch = true;
       v.keyframe_mismatch_tick = o.keyframe_tick;
@@ -297,13 +301,13 @@ VerifyResult verify_log(MatchLogReader& reader, const VerifyProgress& progress, 
     }
     if (o.verified_through != ranges[i].end) break;  // cannot happen without a failure above
   }
-  if (!v.mismatch && !v.keyframe_mismatch && !s.gaps.empty()) {
+  if (!v.mismatch && !v.keyframe_mismatch && !gaps.empty()) {
     v.stopped_at_gap = true;
-    v.gap_first_tick = s.gaps.front().first_tick;
+    v.gap_first_tick = gaps.front().first_tick;
   }
   const std::uint64_t simulated = done.load();
   v.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  if (progress) progress(v.ticks_verified, v.ticks_total);
+  if (progress) progress(v.ticks_verified, v.ticks_total);  // counts, from the log's first tick
   if (v.mismatch) explain_divergence(reader, v.mismatch_tick, options, v);
   if (v.seconds > 0) {
     v.ticks_per_second = static_cast<double>(simulated) / v.seconds;

@@ -35,7 +35,14 @@ MatchLogWriter::~MatchLogWriter() {
   }
 }
 
-void MatchLogWriter::begin(LogHeader header) {
+void MatchLogWriter::begin(LogHeader header) { start(std::move(header), 0, nullptr); }
+
+void MatchLogWriter::begin_from(LogHeader header, std::uint64_t tick, const std::vector<std::uint8_t>& checkpoint) {
+  if (tick == 0) throw LogError("match log " + path_ + ": begin_from() needs a tick >= 1 (begin() starts before tick 1)");
+  start(std::move(header), tick, &checkpoint);
+}
+
+void MatchLogWriter::start(LogHeader header, std::uint64_t base_tick, const std::vector<std::uint8_t>* checkpoint) {
   if (began_) throw LogError("match log " + path_ + ": begin() called twice");
   if (opt_.block_ticks < 1 || opt_.block_ticks > 4096) throw LogError("match log: block_ticks must be in [1, 4096]");
   if (opt_.zstd_level < 0 || opt_.zstd_level > 19) throw LogError("match log: zstd_level must be in [0, 19]");
@@ -94,6 +101,19 @@ void MatchLogWriter::begin(LogHeader header) {
   block_raw_.reserve(opt_.block_ticks * opt_.slot_reserve_bytes);
   if (opt_.zstd_level > 0) zctx_ = ZSTD_createCCtx();
   last_sync_ = Clock::now();
+  if (base_tick > 0) {
+    // Before the writer thread exists, on this thread: the start is in the file when this returns.
+    write_gap(1, base_tick, kGapStartedFromCheckpoint);
+    write_keyframe(base_tick, *checkpoint);
+    maybe_fsync(true);
+    {
+      std::lock_guard<std::mutex> lock(error_mutex_);
+      if (!io_error_.empty()) throw LogError(fmt::format("match log {}: cannot write its start: {}", path_, io_error_));
+    }
+    base_tick_ = base_tick;
+    next_tick_ = base_tick + 1;
+    expected_tick_ = base_tick + 1;
+  }
   began_ = true;
   thread_ = std::thread([this] { run(); });
   // SCHED_BATCH: the writer never preempts the tick thread when its timer wakes it (it still gets
@@ -126,7 +146,7 @@ void MatchLogWriter::run() {
     wake_.wait_for(lock, timeout);
   }
   flush_block();
-  const std::uint64_t last = appended_.load(std::memory_order_relaxed);
+  const std::uint64_t last = base_tick_ + appended_.load(std::memory_order_relaxed);
   if (expected_tick_ <= last) write_gap(expected_tick_, last - expected_tick_ + 1);  // dropped at the very end
   const std::uint64_t index_offset = offset_;
   write_index(true);

@@ -59,7 +59,7 @@ bool MatchLogWriter::resolve_keyframe() {
   const std::uint64_t k = kf_pending_;
   // Decided once the tick thread has moved past tick k (appended k + 1, or is closing): anything it
   // appended for k is in the slots by then (release/acquire on appended_ and kf_head_).
-  const bool final = appended_.load(std::memory_order_acquire) > k || closing_.load(std::memory_order_acquire);
+  const bool final = base_tick_ + appended_.load(std::memory_order_acquire) > k || closing_.load(std::memory_order_acquire);
   for (;;) {
     const std::uint64_t t = kf_tail_.load(std::memory_order_relaxed);
     if (t == kf_head_.load(std::memory_order_acquire)) break;

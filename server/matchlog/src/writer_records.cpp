@@ -37,12 +37,12 @@ void MatchLogWriter::flush_block() {
   block_count_ = 0;
 }
 
-void MatchLogWriter::write_gap(std::uint64_t first, std::uint64_t count) {
+void MatchLogWriter::write_gap(std::uint64_t first, std::uint64_t count, std::uint8_t reason) {
   std::vector<std::uint8_t> p;
   ByteWriter w(p);
   w.put<std::uint64_t>(first);
   w.put<std::uint64_t>(count);
-  w.put<std::uint8_t>(1);  // reason: the writer's backlog exceeded its cap
+  w.put<std::uint8_t>(reason);
   write_record(RecordType::gap, p);
 }
 

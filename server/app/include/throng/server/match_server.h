@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "throng/matchlog/log_header.h"
+#include "throng/matchlog/writer.h"
 #include "throng/protocol/dds_transport.h"
 #include "throng/server/server_options.h"
 
@@ -42,6 +43,8 @@ class MatchServer {
     std::uint64_t epoch = 2;               // the previous primary's epoch + 1
     // Created when the standby started, so that clients discovered it long before it publishes.
     std::unique_ptr<protocol::ServerTransport> transport;
+    // The standby's match log (it continues there), or null.
+    std::unique_ptr<matchlog::MatchLogWriter> log;
   };
   MatchServer(const ServerOptions& options, Takeover&& takeover);
   ~MatchServer();

@@ -14,6 +14,7 @@
 //
 // Not thread-safe: one thread feeds it.
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <span>
@@ -33,6 +34,11 @@ struct FollowerOptions {
   // Entries held while they cannot be applied yet (no checkpoint covers them, or a tick before them
   // is missing): the newest are kept. 900 is 30 s at 30 Hz, time for a checkpoint to arrive.
   std::size_t max_held_ticks = 900;
+  // Called after each applied tick whose hash matched the primary's, with the tick, its hash and
+  // flags and the inputs it applied (Match::last_inputs(), as the primary logged them): a standby
+  // records it in its own match log.
+  std::function<void(std::uint64_t tick, std::uint64_t state_hash, std::uint8_t flags, const match::TickInputs& inputs)>
+      on_applied;
 };
 
 enum class FollowState : std::uint8_t {

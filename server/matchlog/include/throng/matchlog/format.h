@@ -38,6 +38,10 @@ bool is_known_record_type(std::uint8_t t);
 inline constexpr std::uint8_t kTickShutdownBegan = 1u << 0;  // Match::begin_shutdown() was called before this tick
 inline constexpr std::uint8_t kKnownTickFlags = kTickShutdownBegan;
 
+// Gap record reasons.
+inline constexpr std::uint8_t kGapDropped = 1;                // the writer's backlog exceeded its cap
+inline constexpr std::uint8_t kGapStartedFromCheckpoint = 2;  // the log starts after these ticks (begin_from)
+
 // Tick-block payload codecs.
 enum class BlockCodec : std::uint8_t { raw = 0, zstd = 1 };
 

@@ -57,7 +57,7 @@ class LogPlayer {
   const LogHeader& header() const;
   const LogScan& scan() const;
   std::uint32_t tick_hz() const;
-  std::uint64_t first_tick() const;  // 1 when the log has ticks, else 0
+  std::uint64_t first_tick() const;  // 1 when the log has ticks (T + 1 for one that starts after tick T), else 0
   std::uint64_t last_tick() const;   // last tick that can be re-simulated (stops before a gap)
   std::uint64_t tick() const;        // ticks applied so far: 0 = the match before its first tick
 

@@ -138,4 +138,11 @@ class TickCursor {
   bool loaded_ = false;
 };
 
+// A log that starts from a checkpoint (MatchLogWriter::begin_from: a hot standby's) opens with a
+// gap for ticks 1..T and the keyframe of tick T: T, the tick its re-simulation starts after. 0 for
+// a log that starts before tick 1.
+std::uint64_t start_keyframe_tick(const LogScan& s);
+// The gaps that are holes in the match (not the start of a log that starts from a checkpoint).
+std::span<const GapInfo> holes(const LogScan& s);
+
 }  // namespace throng::matchlog

@@ -89,7 +89,9 @@ struct VerifyResult {
   // matched but whose other match state did not is described here.
   std::string keyframe_note;
   std::uint64_t ticks_total = 0;     // readable ticks in the log
-  std::uint64_t ticks_verified = 0;  // ticks whose hash matched, from tick 1 on
+  std::uint64_t ticks_verified = 0;  // ticks whose hash matched, from the log's first tick on
+  // The log starts after this tick, from its keyframe (a hot standby's log); 0: from tick 1.
+  std::uint64_t start_tick = 0;
   bool mismatch = false;
   std::uint64_t mismatch_tick = 0, expected_hash = 0, actual_hash = 0;
   bool stopped_at_gap = false;       // the writer dropped ticks: nothing after can be re-simulated

@@ -134,6 +134,12 @@ class MatchLogWriter {
   // scene hash and writer settings; inlines parameter/policy files (self_contained_scene). Throws
   // LogError on any problem (bad options, cannot create, cannot read a scene file).
   void begin(LogHeader header);
+  // A log that starts after tick `tick` of a match rather than before tick 1 (a hot standby's, and
+  // the match it may take over): begin(), then a gap record for ticks 1..tick (reason: started
+  // from a checkpoint) and `checkpoint` (Match::save_checkpoint after `tick`) as the keyframe of
+  // `tick`, written before this returns; append_tick then expects tick + 1. verify and seek start
+  // from that keyframe. tick >= 1.
+  void begin_from(LogHeader header, std::uint64_t tick, const std::vector<std::uint8_t>& checkpoint);
 
   // Ticks must be 1, 2, 3, ... (std::invalid_argument otherwise: a programming error). Never blocks
   // on I/O and never throws for I/O problems.
@@ -154,6 +160,7 @@ class MatchLogWriter {
   // allocate either. O(1) on the tick thread. Dropped: `checkpoint` is left as it was.
   void append_keyframe_swap(std::uint64_t tick, std::vector<std::uint8_t>& checkpoint);
   std::uint32_t keyframe_interval_ticks() const { return opt_.keyframe_interval_ticks; }  // after rounding
+  std::uint64_t next_tick() const { return next_tick_; }  // the tick append_tick expects (the tick thread's)
   const WriterOptions& options() const { return opt_; }  // as used (intervals rounded)
 
   // Waits for the writer thread to write everything queued, then writes the final (partial) block,
@@ -173,11 +180,12 @@ class MatchLogWriter {
     std::uint64_t tick = 0;
     std::vector<std::uint8_t> bytes;
   };
+  void start(LogHeader header, std::uint64_t base_tick, const std::vector<std::uint8_t>* checkpoint);
   void run();
   bool process_one();
   void consume(const std::vector<std::uint8_t>& entry);
   void flush_block();
-  void write_gap(std::uint64_t first, std::uint64_t count);
+  void write_gap(std::uint64_t first, std::uint64_t count, std::uint8_t reason = kGapDropped);
   void write_index(bool final);
   bool resolve_keyframe();  // writer thread: the keyframe decision for kf_pending_ is known
   KeyframeSlot* keyframe_slot(std::uint64_t tick);  // tick thread: a free slot, or nullptr (dropped, counted)
@@ -192,6 +200,7 @@ class MatchLogWriter {
   int fd_ = -1;
   bool began_ = false, closed_ = false;
   std::uint64_t next_tick_ = 1;  // tick thread: the tick append_tick expects
+  std::uint64_t base_tick_ = 0;  // the log starts after this tick (begin_from); appended_ counts from it
   bool last_tick_dropped_ = false;  // tick thread: the last append_tick dropped its tick
 
   // keyframe slots (single producer: tick thread, single consumer: writer thread)
