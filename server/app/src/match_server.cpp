@@ -202,6 +202,10 @@ struct MatchServer::Impl {
     }
   }
 
+  // The DDS participant goes first: its listener threads call into members declared after it
+  // (the standby feed, the operator gate's counters).
+  ~Impl() { transport.reset(); }
+
   void resume(Takeover& t);
   void on_param_update(protocol::ParamUpdate&& u);
   void publish_outbox();

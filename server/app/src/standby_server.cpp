@@ -103,6 +103,12 @@ struct StandbyServer::Impl {
   std::unique_ptr<MatchServer> primary;
   bool took_over = false;
 
+  // The DDS participants go first: their listener threads call into the members declared after them.
+  ~Impl() {
+    transport.reset();
+    server_transport.reset();
+  }
+
   explicit Impl(const ServerOptions& o)
       : options(o),
         transport(std::make_unique<protocol::StandbyTransport>(standby_transport_options(o))),
