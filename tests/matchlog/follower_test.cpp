@@ -117,6 +117,8 @@ TEST(MatchFollower, ADivergentTickIsNamedAndAFreshCheckpointResynchronises) {
   // change is missing, so the recomputed state differs from the hash it carries.
   TickRecord altered = played().ticks[39];
   ASSERT_FALSE(altered.inputs.params.empty());
+  const std::uint32_t changed_entity = altered.inputs.params.front().entity;
+  const std::string changed_param = altered.inputs.params.front().param;
   altered.inputs.params.clear();
   f.on_tick_entry(entry_of(altered));
   EXPECT_EQ(f.tick(), 40u);
@@ -132,6 +134,15 @@ TEST(MatchFollower, ADivergentTickIsNamedAndAFreshCheckpointResynchronises) {
   EXPECT_EQ(f.tick(), 50u);
   EXPECT_EQ(f.match().state_hash(), played().ticks[49].state_hash);
   EXPECT_EQ(f.stats().mismatches, 1u);
+  // Before restoring, the diverged match was brought to tick 45 with the held entries and compared
+  // with the checkpoint: the object whose parameter change was left out is named.
+  const Divergence& d = f.last_divergence();
+  EXPECT_EQ(d.first_tick, 40u);
+  EXPECT_EQ(d.compared_at, 45u) << d.note;
+  bool named = false;
+  for (const auto& diff : d.differences)
+    named = named || (diff.object_id == changed_entity && diff.what.find(changed_param) != std::string::npos);
+  EXPECT_TRUE(named) << "object " << changed_entity << " (" << changed_param << ") among " << d.differences.size() << " differences";
 }
 
 TEST(MatchFollower, AnOlderCheckpointIsIgnoredWhileFollowing) {

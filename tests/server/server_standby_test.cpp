@@ -91,6 +91,7 @@ class Walker {
     if (thread_.joinable()) thread_.join();
   }
   bool accepted() const { return reply_ && reply_->result == protocol::JoinResult::accepted; }
+  std::uint32_t entity() const { return reply_ ? reply_->entity : 0; }
 
  private:
   TestClient client_;
@@ -155,27 +156,38 @@ TEST(Standby, ThatDivergesOnPurposeAsksAgainAndResynchronises) {
   ServerThread primary(o);
   auto so = standby_options(o);
   std::atomic<std::uint64_t> altered{0};
-  // Tick 120's entry arrives with a state hash the standby cannot reach: its tick diverges.
+  // The first entry from tick 120 on that carries a command reaches the standby with that command
+  // steering the other way: its walker goes elsewhere, and the tick's hash differs.
   so.standby_entry_hook_for_tests = [&](std::uint64_t tick, std::vector<std::uint8_t>& entry) {
-    if (tick != 120) return;
+    if (tick < 120 || altered.load() != 0) return;
     matchlog::TickRecord r;
     std::size_t pos = 0;
     matchlog::decode_tick(entry, pos, r, matchlog::kFormatVersion);
+    if (r.inputs.commands.empty()) return;
+    r.inputs.commands.front().move_x = r.inputs.commands.front().move_x > 0.0f ? -0.8f : 0.8f;
     entry.clear();
-    matchlog::encode_tick(r.tick, r.inputs, r.state_hash ^ 1u, r.flags, entry);
+    matchlog::encode_tick(r.tick, r.inputs, r.state_hash, r.flags, entry);
     altered.store(tick);
   };
   StandbyThread standby(so);
   Walker walker(160);
   ASSERT_TRUE(walker.accepted());
-  ASSERT_TRUE(standby.wait_until([](const server::StandbyStatus& s) { return s.follower.mismatches == 1 && s.following && s.tick >= 150; }, 30s));
-  EXPECT_EQ(altered.load(), 120u);
+  ASSERT_TRUE(standby.wait_until([&](const server::StandbyStatus& s) {
+    return s.follower.mismatches == 1 && s.following && altered.load() != 0 && s.tick >= altered.load() + 30;
+  }, 30s)) << standby.standby().summary().dump();
   expect_standby_ends_with_the_primary(primary, standby);
   const nlohmann::json s = standby.standby().summary();
   EXPECT_EQ(s["mismatches"], 1u);
-  EXPECT_EQ(s["first_mismatch_tick"], 120u);
+  EXPECT_EQ(s["first_mismatch_tick"], altered.load());
   EXPECT_GE(s["checkpoints"].get<std::uint64_t>(), 2u);  // the first, and the one after the divergence
   EXPECT_GE(s["requests_sent"].get<std::uint64_t>(), 2u);
+  // As verify does: the objects that went wrong, the walker's entity among them.
+  const nlohmann::json& d = s["divergence"];
+  ASSERT_TRUE(d.is_object()) << s.dump(2);
+  EXPECT_EQ(d["first_tick"], altered.load());
+  bool walker_named = false;
+  for (const auto& obj : d["objects"]) walker_named = walker_named || obj["object"] == walker.entity();
+  EXPECT_TRUE(walker_named) << d.dump(2);
 }
 
 const std::string kServer = std::string(THRONG_BIN_DIR) + "/throng-server";

@@ -93,6 +93,7 @@ struct StandbyServer::Impl {
   Clock::time_point last_entry_at{};
   bool silent = false;
   std::uint64_t mismatches_logged = 0;
+  std::uint64_t divergence_reported = 0;  // first tick of the last divergence whose objects were logged
   double wall_seconds = 0.0;
 
   mutable std::mutex status_mutex;
@@ -132,6 +133,7 @@ struct StandbyServer::Impl {
   void open_log(const matchlog::LogHeader& answer, const protocol::StandbySync& sync);
   void log_tick(std::uint64_t tick, std::uint64_t state_hash, std::uint8_t flags, const match::TickInputs& inputs);
   void stop_log(const std::string& why);
+  void report_divergence();
   bool primary_gone(Clock::time_point now) const;
   // Follows until the end or a takeover; true for a takeover.
   bool follow_loop(Clock::time_point end_at);
@@ -210,6 +212,7 @@ void StandbyServer::Impl::apply_sync(protocol::StandbySync&& sync) {
                    sync.tick, sync.checkpoint.size() / 1024);
     } else {
       spdlog::info("standby: resynchronised from the primary's checkpoint after tick {}", sync.tick);
+      report_divergence();
       stop_log(fmt::format("it resynchronised from the checkpoint of tick {}", sync.tick));
     }
     primary_epoch = sync.epoch;
@@ -285,6 +288,11 @@ void StandbyServer::Impl::publish_status() {
   st.following = follower->state() == matchlog::FollowState::following;
   st.follower = follower->stats();
   st.primary_ended = (follower->last_applied_flags() & matchlog::kTickShutdownBegan) != 0;
+  if (const matchlog::Divergence& d = follower->last_divergence(); d.first_tick != 0) {
+    nlohmann::json objects = nlohmann::json::array();
+    for (const auto& o : d.differences) objects.push_back({{"object", o.object_id}, {"what", o.what}});
+    st.divergence = {{"first_tick", d.first_tick}, {"compared_at", d.compared_at}, {"objects", objects}, {"note", d.note}};
+  }
 }
 
 // From the first answer's checkpoint on (a log cannot start at tick 1 here: the ticks before it
@@ -335,6 +343,22 @@ void StandbyServer::Impl::stop_log(const std::string& why) {
     spdlog::error("standby: its match log {}: {}", path, e.what());
   }
   log.reset();
+}
+
+// What verify would say: the objects whose state differed from the primary's at the checkpoint
+// that ended the divergence.
+void StandbyServer::Impl::report_divergence() {
+  const matchlog::Divergence& d = follower->last_divergence();
+  if (d.first_tick == 0 || d.first_tick == divergence_reported) return;
+  divergence_reported = d.first_tick;
+  if (d.differences.empty()) {
+    spdlog::error("standby: the divergence from tick {}: {}", d.first_tick, d.note);
+    return;
+  }
+  std::string objects;
+  for (const auto& o : d.differences) objects += fmt::format("\n  object {}: {}", o.object_id, o.what);
+  spdlog::error("standby: the divergence from tick {}: objects whose state differed at tick {} (the primary's value, then this standby's){}:{}",
+                d.first_tick, d.compared_at, d.differences.size() >= 20 ? " (the first 20)" : "", objects);
 }
 
 // The primary's stream stopped for longer than the takeover limit while this standby held every
@@ -551,6 +575,7 @@ nlohmann::json StandbyServer::summary() const {
       {"requests_sent", st.requests_sent},
       {"syncs_received", st.syncs_received},
       {"syncs_refused", st.syncs_refused},
+      {"divergence", st.divergence},
   };
 }
 

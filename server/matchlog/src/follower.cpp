@@ -43,10 +43,43 @@ void MatchFollower::on_checkpoint(std::span<const std::uint8_t> checkpoint) {
     ++stats_.stale_checkpoints;
     return;
   }
+  if (diverged_) explain_divergence(checkpoint);
   resim_.restore(checkpoint);  // throws with the match unchanged (the restore stages before it commits)
   ++stats_.checkpoints;
   diverged_ = false;
   apply_held();
+}
+
+// The diverged match, stepped on with the primary's entries to the checkpoint's tick, against the
+// checkpoint: which objects went wrong (the match is replaced right after, so stepping it costs
+// nothing that matters).
+void MatchFollower::explain_divergence(std::span<const std::uint8_t> checkpoint) {
+  divergence_ = Divergence{};
+  divergence_.first_tick = stats_.first_mismatch_tick;
+  try {
+    const std::uint64_t at = match::checkpoint_sections(checkpoint).tick;
+    if (at < tick()) {
+      divergence_.note = fmt::format("the checkpoint (tick {}) is older than the diverged match (tick {})", at, tick());
+      return;
+    }
+    for (std::uint64_t t = tick() + 1; t <= at; ++t) {
+      const auto it = held_.find(t);
+      if (it == held_.end()) {
+        divergence_.note = fmt::format("tick {}'s entry never arrived: the match cannot be brought to tick {}", t, at);
+        return;
+      }
+      TickRecord copy = it->second;  // held entries after `at` are still applied after the restore
+      resim_.step(copy);
+    }
+    resim_.match().save_checkpoint(mine_);
+    divergence_.compared_at = at;
+    divergence_.differences = match::diff_checkpoints(checkpoint, mine_);
+    if (divergence_.differences.empty())
+      divergence_.note = fmt::format("the worlds are equal at tick {}: the difference was outside the world, or vanished", at);
+  } catch (const std::exception& e) {
+    divergence_.compared_at = 0;
+    divergence_.note = fmt::format("cannot compare with the checkpoint: {}", e.what());
+  }
 }
 
 void MatchFollower::hold(TickRecord&& t) {

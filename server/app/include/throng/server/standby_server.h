@@ -36,6 +36,9 @@ struct StandbyStatus {
   bool primary_ended = false;         // an applied tick said the primary began its shutdown
   bool took_over = false;             // the standby now hosts the match (primary_summary())
   matchlog::FollowerStats follower;
+  // The last divergence a checkpoint ended: first_tick, compared_at, objects [{object, what}], note
+  // (null: none).
+  nlohmann::json divergence;
 };
 
 class StandbyServer {

@@ -18,7 +18,10 @@
 #include <map>
 #include <memory>
 #include <span>
+#include <string>
+#include <vector>
 
+#include "throng/match/checkpoint_diff.h"
 #include "throng/match/match.h"
 #include "throng/matchlog/log_header.h"
 #include "throng/matchlog/replay.h"
@@ -49,6 +52,16 @@ enum class FollowState : std::uint8_t {
   needs_checkpoint,
 };
 
+// What a divergence looked like: the objects whose state differed from the primary's at the tick of
+// the checkpoint that ended it (the diverged match stepped on with the primary's entries to that
+// tick), as `throng-replay verify` names them.
+struct Divergence {
+  std::uint64_t first_tick = 0;   // the first tick whose hash differed
+  std::uint64_t compared_at = 0;  // the checkpoint's tick (0: could not be compared, see note)
+  std::vector<match::BodyDifference> differences;  // at most 20, ascending object id
+  std::string note;               // why nothing was compared, or that the worlds were equal
+};
+
 struct FollowerStats {
   std::uint64_t applied = 0;              // ticks applied whose hash matched the primary's
   std::uint64_t mismatches = 0;           // ticks whose recomputed hash differed
@@ -75,8 +88,10 @@ class MatchFollower {
   void on_tick_entry(std::span<const std::uint8_t> entry);
   // A checkpoint the primary saved after its tick T. Replaces the follower's match, drops held
   // entries up to T and applies those after it; ignored (counted) when T is behind a match that
-  // still follows. Throws match::CheckpointError when the bytes do not restore (another scene,
-  // config or build; damaged): the match is unchanged and, if it was following, still follows.
+  // still follows. A diverged match is first stepped on with the held entries up to T and compared
+  // with the checkpoint (last_divergence() names the objects that differ). Throws match::CheckpointError when the bytes do not restore (another scene,
+  // config or build; damaged): a match that was following is unchanged and still follows (a
+  // diverged one may have been stepped on to compare it).
   void on_checkpoint(std::span<const std::uint8_t> checkpoint);
 
   FollowState state() const;
@@ -86,18 +101,23 @@ class MatchFollower {
   // ended the match.
   std::uint8_t last_applied_flags() const { return last_flags_; }
   const FollowerStats& stats() const { return stats_; }
+  // The last divergence that a checkpoint ended (first_tick 0: none yet).
+  const Divergence& last_divergence() const { return divergence_; }
   const match::Match& match() const { return resim_.match(); }
   const match::Outbox& outbox() const { return resim_.outbox(); }  // of the last applied tick
 
  private:
   void apply_held();
   void hold(TickRecord&& t);
+  void explain_divergence(std::span<const std::uint8_t> checkpoint);
 
   FollowerOptions options_;
   Resimulator resim_;
   std::map<std::uint64_t, TickRecord> held_;  // by tick
   bool diverged_ = false;  // the last applied tick's hash differed
   std::uint8_t last_flags_ = 0;
+  Divergence divergence_;
+  std::vector<std::uint8_t> mine_;  // the diverged match's checkpoint, compared with the primary's
   FollowerStats stats_;
 };
 
