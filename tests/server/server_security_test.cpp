@@ -150,6 +150,7 @@ TEST(SecureMatch, OnlyTheServerIdentityCanFollowAsAHotStandby) {
 
   auto so = options;
   so.standby = true;
+  so.takeover_after_ticks = 0;  // following only (a loaded machine must not turn this into a takeover)
   so.duration_s = 30.0;  // a bound; stopped below once it follows
   server::StandbyServer standby(so);
   std::thread follow([&] { standby.run(false); });

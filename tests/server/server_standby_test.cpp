@@ -54,6 +54,7 @@ class StandbyThread {
   }
   server::StandbyServer& standby() { return standby_; }
   int exit_code() const { return exit_code_; }
+  bool done() const { return done_.load(); }
 
  private:
   server::StandbyServer standby_;
@@ -67,6 +68,9 @@ server::ServerOptions standby_options(const server::ServerOptions& primary) {
   o.standby = true;
   o.scene = "does-not-matter";  // the standby takes the scene from the primary
   o.npcs = 1;
+  // Following only: a primary that stalls for 3 ticks on a loaded test machine (a sanitizer build,
+  // parallel tests) would otherwise be taken over. The takeover tests set the default back.
+  o.takeover_after_ticks = 0;
   return o;
 }
 
@@ -226,6 +230,7 @@ TEST(Standby, TakesOverWhenThePrimaryIsKilledAndItsClientPlaysOnWithoutRejoining
                         (dir / "primary.tlog").string(), "--client-timeout", "30", "--log-level", "warn"},
                        dir / "out.txt", dir / "err.txt");
   auto so = standby_options(small_server_options(166));
+  so.takeover_after_ticks = 6;  // the default is 3; 6 keeps a loaded test machine's hiccups from starting it early
   so.log_file = (dir / "standby.tlog").string();
   StandbyThread standby(so);
   TestClient client(166);
@@ -292,7 +297,9 @@ TEST(Standby, APausedPrimaryThatWakesUpAfterATakeoverStopsItself) {
                        {"--scene", "battle", "--npcs", "400", "--domain", "169", "--admin-port", "-1", "--no-log",
                         "--client-timeout", "30", "--summary-json", (dir / "old.json").string()},
                        dir / "out.txt", dir / "err.txt");
-  StandbyThread standby(standby_options(small_server_options(169)));
+  auto so = standby_options(small_server_options(169));
+  so.takeover_after_ticks = 6;  // the default is 3; 6 keeps a loaded test machine's hiccups from starting it early
+  StandbyThread standby(so);
   TestClient client(169);
   const auto reply = client.join(11, "stays");
   ASSERT_TRUE(reply && reply->result == protocol::JoinResult::accepted) << read_file(dir / "err.txt");
@@ -330,6 +337,56 @@ TEST(Standby, APausedPrimaryThatWakesUpAfterATakeoverStopsItself) {
   const nlohmann::json p = standby.standby().primary_summary();
   EXPECT_EQ(p["epoch"], 2);
   EXPECT_EQ(p["clients_connected_at_end"], 1);
+}
+
+// Two standbys of one primary, which dies: both may take over at once (they see the same silence);
+// their claims are of the same epoch, and the one with the lower server id stops. Exactly one
+// hosts the match, and the client plays on.
+TEST(Standby, TwoStandbysOfAKilledPrimaryLeaveExactlyOneHostingTheMatch) {
+  TempDir dir("throng-two-standbys");
+  ChildProcess primary(kServer,
+                       {"--scene", "battle", "--npcs", "400", "--domain", "197", "--admin-port", "-1", "--no-log",
+                        "--client-timeout", "30", "--log-level", "warn"},
+                       dir / "out.txt", dir / "err.txt");
+  auto so = standby_options(small_server_options(197));
+  so.takeover_after_ticks = 6;  // the default is 3; 6 keeps a loaded test machine's hiccups from starting it early
+  StandbyThread a(so);
+  StandbyThread b(so);
+  TestClient client(197);
+  const auto reply = client.join(13, "stays");
+  ASSERT_TRUE(reply && reply->result == protocol::JoinResult::accepted) << read_file(dir / "err.txt");
+  std::atomic<bool> stop{false};
+  std::thread commands([&] {
+    for (std::uint32_t seq = 1; !stop.load(); ++seq) {
+      client.transport().send_command(standing_command(*reply, seq));
+      std::this_thread::sleep_for(33ms);
+    }
+  });
+  const auto follows = [](const server::StandbyStatus& s) { return s.following && s.tick >= 45; };
+  ASSERT_TRUE(a.wait_until(follows, 30s));
+  ASSERT_TRUE(b.wait_until(follows, 30s));
+  const std::uint32_t applied = client.with_lock([&] { return last_applied(client.snapshots(), reply->client_id); });
+  primary.kill_now();
+  const auto deadline = std::chrono::steady_clock::now() + 10s;
+  while (!a.standby().status().took_over && !b.standby().status().took_over) {
+    ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "nobody took over";
+    std::this_thread::sleep_for(10ms);
+  }
+  EXPECT_TRUE(client.wait_until([&] { return last_applied(client.snapshots(), reply->client_id) > applied + 30; }, 10s));
+  std::this_thread::sleep_for(500ms);
+  int hosting = 0;
+  for (StandbyThread* s : {&a, &b}) {
+    const bool took = s->standby().status().took_over;
+    if (took && !s->done()) ++hosting;
+    if (took && s->done()) {
+      EXPECT_EQ(s->exit_code(), server::kExitFenced);
+    }
+  }
+  EXPECT_EQ(hosting, 1) << a.standby().summary().dump() << "\n" << b.standby().summary().dump();
+  stop.store(true);
+  commands.join();
+  a.stop();
+  b.stop();
 }
 
 TEST(Standby, WithoutAPrimaryEndsAtItsDurationSayingItNeverHadTheMatch) {

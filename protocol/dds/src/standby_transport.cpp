@@ -20,6 +20,7 @@ struct StandbyTransport::Impl {
   MatchCounter request_matches;
   std::unique_ptr<TakeAllListener<v1::TickEntry>> tick_listener;
   std::unique_ptr<TakeAllListener<v1::StandbySync>> sync_listener;
+  std::unique_ptr<TakeAllListener<v1::PrimaryClaim>> claim_listener;
 
   Participant participant;
   dds::DataWriter* request_writer = nullptr;
@@ -50,8 +51,13 @@ void StandbyTransport::start(Handlers handlers) {
       [h = std::move(handlers.on_sync)](v1::StandbySync&& e, const SampleMeta&) {
         if (h) h(from_idl(std::move(e)));
       });
+  s.claim_listener = std::make_unique<TakeAllListener<v1::PrimaryClaim>>(
+      [h = std::move(handlers.on_primary_claim)](v1::PrimaryClaim&& c, const SampleMeta&) {
+        if (h) h(from_idl(std::move(c)));
+      });
   const Topics& t = s.participant.topics();
   dds::Subscriber& sub = s.participant.subscriber();
+  s.participant.create_reader(sub, *t.primary, kPrimaryProfiles.reader, s.claim_listener.get());
   s.participant.create_reader(sub, *t.tick_inputs, kTickInputsProfiles.reader, s.tick_listener.get());
   s.participant.create_reader(sub, *t.standby_sync, kStandbySyncProfiles.reader, s.sync_listener.get());
   s.started = true;

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <mutex>
 #include <optional>
+#include <random>
 #include <unistd.h>
 
 #include <boost/asio/io_context.hpp>
@@ -77,6 +78,11 @@ protocol::TransportOptions transport_options(const ServerOptions& o) {
 
 namespace {
 
+std::uint64_t random_server_id() {
+  std::random_device rd;
+  return ((static_cast<std::uint64_t>(rd()) << 32) ^ rd()) | 1u;  // never 0 (0: not drawn yet)
+}
+
 // The match id; from here on every log line carries it.
 std::string make_match_id(const std::string& scene_name) {
   const auto now = std::chrono::system_clock::now().time_since_epoch();
@@ -106,6 +112,8 @@ struct MatchServer::Impl {
   // A claim of a higher epoch for this match (another server took it over while this one was
   // paused or cut off): set on a DDS thread, the tick loop then stops without another tick.
   std::atomic<std::uint64_t> fenced_by{0};
+  // Orders two claims of one epoch (PrimaryClaim::server_id); a standby's own after a takeover.
+  std::uint64_t server_id = 0;
   std::unique_ptr<protocol::ServerTransport> transport;
   StandbyFeed standby_feed;  // tick entries and checkpoints for hot standbys
   admin::MetricsRegistry registry;
@@ -224,6 +232,7 @@ void MatchServer::Impl::resume(Takeover& t) {
   if (!transport) throw std::runtime_error("takeover without a transport");
   match.restore_checkpoint(t.checkpoint);  // with the primary's snapshot baselines
   epoch = t.epoch;
+  server_id = t.server_id;
   standby_feed.set_epoch(epoch);
   for (const match::ClientSummary& c : match.clients()) {
     transport->open_client_channel(c.client_id, c.partition);
@@ -544,13 +553,16 @@ int MatchServer::run(bool handle_signals) {
       [&m](protocol::ParamUpdate&& u) { m.on_param_update(std::move(u)); },
       [&m](protocol::StandbyRequest&& r) { m.standby_feed.on_request(std::move(r)); },
       [&m, id = m.match.match_info().match_id](protocol::PrimaryClaim&& c) {
-        if (c.match_id == id && c.epoch > m.epoch && m.fenced_by.load() == 0) {
+        const bool above = c.epoch > m.epoch || (c.epoch == m.epoch && c.server_id > m.server_id);
+        if (c.match_id == id && above && m.fenced_by.load() == 0) {
           m.fenced_by.store(c.epoch);
           m.request_end("fenced");
         }
       },
   });
-  m.transport->publish_primary_claim(protocol::PrimaryClaim{m.match.match_info().match_id, m.epoch, m.match.tick_index()});
+  if (m.server_id == 0) m.server_id = random_server_id();
+  m.transport->publish_primary_claim(
+      protocol::PrimaryClaim{m.match.match_info().match_id, m.epoch, m.match.tick_index(), m.server_id});
   m.transport->publish_match_info(m.match.match_info());
   // Publish each snapshot from the worker that built it (the transport is thread-safe), so
   // building and publishing overlap across clients.
@@ -617,8 +629,9 @@ int MatchServer::run(bool handle_signals) {
   io.run();
 
   if (m.fenced_by.load() != 0)
-    spdlog::error("match {} is hosted by another server now (epoch {}, this server's {}): this server was replaced while "
-                  "it was paused or cut off, and stops hosting it at tick {}", m.match.match_info().match_id,
+    spdlog::error("match {} is hosted by another server now (epoch {}, this server's {}): this server was replaced (it "
+                  "was paused or cut off, or another standby took over at the same moment) and stops hosting it at "
+                  "tick {}", m.match.match_info().match_id,
                   m.fenced_by.load(), m.epoch, m.match.tick_index());
   m.transport->flush(std::chrono::seconds(2));  // clients must hear "ended" before we vanish
   if (m.log) {

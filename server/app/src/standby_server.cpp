@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <deque>
 #include <fstream>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <random>
@@ -82,6 +83,10 @@ struct StandbyServer::Impl {
   std::unique_ptr<matchlog::MatchFollower> follower;  // non-null once an answer restored
   matchlog::LogHeader header;                         // the primary's, from its answer
   std::uint64_t primary_epoch = 1;                    // from its answer
+  // The highest epoch claimed for each match (PrimaryClaim), written on the DDS thread: another
+  // standby may have taken the followed match over since the answer.
+  std::mutex claims_mutex;
+  std::map<std::string, std::uint64_t> claimed_epochs;
   // The standby's own match log, from the checkpoint of its first answer; closed (and reported)
   // when the chain breaks, since a log cannot skip ticks it did not apply. Handed to the new
   // primary at a takeover.
@@ -409,7 +414,12 @@ int StandbyServer::Impl::host_the_match(bool handle_signals) {
   MatchServer::Takeover t;
   t.header = header;
   follower->match().save_checkpoint(t.checkpoint, match::SaveOptions{.snapshot_baselines = true});
-  t.epoch = primary_epoch + 1;
+  {
+    std::lock_guard<std::mutex> lock(claims_mutex);
+    const auto it = claimed_epochs.find(header.match_id);
+    t.epoch = std::max(primary_epoch, it == claimed_epochs.end() ? 0 : it->second) + 1;
+  }
+  t.server_id = nonce | 1u;
   t.transport = std::move(server_transport);
   t.log = std::move(log);
   spdlog::warn("standby: the primary has sent nothing for {} ms (limit {} ticks) after tick {}: taking over the match",
@@ -467,6 +477,12 @@ int StandbyServer::run(bool handle_signals) {
           m.queued_sync = std::move(s);
         }
         m.queue_changed.notify_one();
+      },
+      [&m](protocol::PrimaryClaim&& c) {
+        std::lock_guard<std::mutex> lock(m.claims_mutex);
+        if (m.claimed_epochs.size() >= 64 && !m.claimed_epochs.contains(c.match_id)) return;  // bounded
+        std::uint64_t& e = m.claimed_epochs[c.match_id];
+        e = std::max(e, c.epoch);
       },
   });
   spdlog::info("standby {:016x}: waiting for the primary on DDS domain {} ({}{})", m.nonce, m.options.domain,

@@ -143,6 +143,7 @@ class StandbyTransport {
   struct Handlers {
     std::function<void(TickEntry&&)> on_tick_entry;
     std::function<void(StandbySync&&)> on_sync;  // every answer, other standbys' too
+    std::function<void(PrimaryClaim&&)> on_primary_claim;  // every primary's claim
   };
   explicit StandbyTransport(const TransportOptions& options);
   ~StandbyTransport();

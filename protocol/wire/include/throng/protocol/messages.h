@@ -265,14 +265,16 @@ struct StandbySync {
 };
 
 // Which server hosts a match: every primary writes its claim when it starts hosting (epoch 1 for a
-// new match, the previous primary's + 1 after a takeover) and reads the others'. A primary that
-// sees a higher epoch for its own match has been replaced (it was paused or cut off while a
-// standby took over) and stops at once: no two servers ever keep hosting one match. Reliable,
+// new match, the highest epoch a standby has seen + 1 after a takeover) and reads the others'. A
+// primary that sees a claim above its own for its match, by epoch and then by server id (two
+// standbys that took over at once), has been replaced and stops at once: no two servers keep
+// hosting one match. Standbys read the claims too, to know the epoch to claim. Reliable,
 // transient-local, server to server only.
 struct PrimaryClaim {
   std::string match_id;
   std::uint64_t epoch = 0;
-  std::uint64_t tick = 0;  // the match tick the claim was made at
+  std::uint64_t tick = 0;       // the match tick the claim was made at
+  std::uint64_t server_id = 0;  // random per server process: orders two claims of one epoch
 };
 
 }  // namespace throng::protocol

@@ -40,7 +40,8 @@ class MatchServer {
   struct Takeover {
     matchlog::LogHeader header;            // the primary's match: scene, config, match id
     std::vector<std::uint8_t> checkpoint;  // after the last followed tick, with snapshot baselines
-    std::uint64_t epoch = 2;               // the previous primary's epoch + 1
+    std::uint64_t epoch = 2;               // the highest epoch the standby saw + 1
+    std::uint64_t server_id = 0;           // the standby's (PrimaryClaim::server_id); 0: draw one
     // Created when the standby started, so that clients discovered it long before it publishes.
     std::unique_ptr<protocol::ServerTransport> transport;
     // The standby's match log (it continues there), or null.
