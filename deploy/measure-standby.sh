@@ -48,7 +48,8 @@ run() {
     spid=$!
   fi
   sleep 1
-  "$bots" --domain "$DOMAIN" --clients "$BOTS" --behavior mix --duration "$MATCH_S" --quiet \
+  # --rejoin-after 1: a bot whose snapshots stop for a second joins again; a takeover must cause none.
+  "$bots" --domain "$DOMAIN" --clients "$BOTS" --behavior mix --duration "$MATCH_S" --quiet --rejoin-after 1 \
     --json "$d/bots.json" >"$d/bots.txt" 2>"$d/bots.log" &
   local bpid=$!
   if [ "$mode" = kill ]; then
@@ -101,7 +102,7 @@ d = f"{out}/takeover"
 b, s = load(f"{d}/bots.json"), load(f"{d}/standby.json")
 ia = b.get("snapshot_interarrival_ms", {})
 print("takeover (SIGKILL of the primary)")
-print(f"  bots: joined {b.get('joined')}, longest run of missed ticks {b.get('max_snapshot_gap_ticks')}, "
+print(f"  bots: joined {b.get('joined')}, rejoined {b.get('bots_rejoined')}, longest run of missed ticks {b.get('max_snapshot_gap_ticks')}, "
       f"missed ticks {b.get('snapshot_gap_ticks')}, snapshot interarrival p99 {ia.get('p99')} max {ia.get('max')} ms")
 for line in open(f"{d}/standby.log"):
     if "taking over" in line or "took over" in line or "match ended" in line:

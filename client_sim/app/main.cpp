@@ -7,6 +7,7 @@
 // 3 some bots failed to join.
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <fstream>
@@ -83,6 +84,18 @@ int main(int argc, char** argv) {
   app.add_option("--server-wait", o.server_wait_s, "seconds to wait for the server")->check(CLI::PositiveNumber);
   app.add_option("--join-timeout", o.join_timeout_s, "seconds a bot waits for its join reply")
       ->check(CLI::PositiveNumber);
+  app.add_option("--rejoin-after", o.rejoin_after_s,
+                 "seconds without a snapshot after which a joined bot joins again as a new client (its server died "
+                 "and nobody took the match over); 0 = never. The report counts rejoins")
+      ->check([](const std::string& v) {
+        // CLI::Range lets NaN through (every comparison with it is false).
+        try {
+          const double d = std::stod(v);
+          return std::isfinite(d) && d >= 0.0 && d <= 3600.0 ? std::string() : std::string("must be 0..3600 seconds");
+        } catch (const std::exception&) {
+          return std::string("must be a number of seconds");
+        }
+      });
   app.add_option("--name-prefix", o.name_prefix, "bot names are <prefix>-<index>-<behavior>");
   app.add_option("--send-phases", o.send_phases,
                  "spread the bots' sends over this many phases of the server tick (1: all at once)")
@@ -118,6 +131,7 @@ int main(int argc, char** argv) {
   fo.phases_per_tick = o.send_phases;
   fo.server_wait = std::chrono::milliseconds(static_cast<long>(o.server_wait_s * 1000));
   fo.join_timeout = std::chrono::milliseconds(static_cast<long>(o.join_timeout_s * 1000));
+  fo.rejoin_after = std::chrono::milliseconds(static_cast<long>(o.rejoin_after_s * 1000));
 
   try {
     client_sim::Fleet fleet(fo);

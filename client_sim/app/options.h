@@ -23,6 +23,7 @@ struct Options {
   std::uint64_t seed = 0;
   double server_wait_s = 10.0;
   double join_timeout_s = 10.0;
+  double rejoin_after_s = 0.0;  // 0: never (FleetOptions::rejoin_after)
   bool progress = true;
   std::string name_prefix = "bot";
   std::uint32_t send_phases = 8;

@@ -65,7 +65,35 @@ std::optional<protocol::JoinRequest> Bot::leave_request() {
 
 void Bot::set_match(std::shared_ptr<const MatchView> match) {
   std::lock_guard lock(mutex_);
+  match_ = match;
   world_.set_match(std::move(match));
+}
+
+std::optional<std::uint32_t> Bot::begin_rejoin(TimePoint now, std::chrono::milliseconds silence) {
+  std::lock_guard lock(mutex_);
+  if (join_.state() != State::joined) return std::nullopt;
+  // Silent since the newest snapshot or, after a rejoin, since the join (the old snapshots do not
+  // count against the new client).
+  std::optional<TimePoint> last = metrics_.last_snapshot();
+  if (const auto sent = join_.last_join_sent_at(); sent && (!last || *sent > *last)) last = sent;
+  if (!last || now - *last < silence) return std::nullopt;
+  const std::uint32_t old = join_.reply().client_id;
+  join_ = JoinHandshake(0, config_.name);  // a new nonce: the server must not see the old join again
+  config_.nonce = join_.nonce();
+  world_ = ClientWorld(config_.world);
+  if (match_) world_.set_match(match_);
+  first_pose_.reset();
+  first_tick_time_.reset();
+  next_sequence_ = 1;
+  last_applied_sequence_ = 0;
+  metrics_.on_rejoin();
+  ++rejoins_;
+  return old;
+}
+
+std::uint32_t Bot::rejoins() const {
+  std::lock_guard lock(mutex_);
+  return rejoins_;
 }
 
 void Bot::on_snapshot(const protocol::Snapshot& snap, std::size_t wire_bytes, TimePoint now) {
@@ -163,6 +191,7 @@ BotReport Bot::report(TimePoint now) const {
   r.last_pose = world_.own_pose();
   if (r.first_pose && r.last_pose) r.moved_m = std::hypot(r.last_pose->x - r.first_pose->x, r.last_pose->y - r.first_pose->y);
   r.world_objects = world_.object_count();
+  r.rejoins = rejoins_;
   return r;
 }
 

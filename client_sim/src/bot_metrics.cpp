@@ -51,6 +51,11 @@ void BotMetrics::on_applied_sequence(std::uint32_t last_applied_sequence, TimePo
   }
 }
 
+void BotMetrics::on_rejoin() {
+  pending_.clear();
+  newest_tick_.reset();
+}
+
 std::optional<double> BotMetrics::join_ms() const {
   if (!launch_ || !first_snapshot_) return std::nullopt;
   return ms_between(*launch_, *first_snapshot_);

@@ -50,6 +50,7 @@ struct Fleet::Impl {
   std::uint32_t phase = 0;
   std::size_t next_to_join = 0;     // bots before this index had their first join sent
   std::size_t first_unsettled = 0;  // bots before this index are no longer joining
+  std::vector<std::size_t> rejoining;  // bots whose join again waits for a reply
 
   // Declared last: destroyed first, so no DDS thread calls into the members above afterwards.
   std::vector<std::unique_ptr<protocol::ClientTransport>> transports;
@@ -109,11 +110,39 @@ struct Fleet::Impl {
       ++pending;
       if (now - *bot.last_join_sent_at() >= options.join_resend) send_join(i, now);
     }
+    // Joins again (rejoin_after): resent and timed out as first joins are.
+    std::erase_if(rejoining, [&](std::size_t i) {
+      Bot& bot = *bots[i];
+      if (bot.state() != Bot::State::joining) return true;
+      if (now - *bot.join_sent_at() > options.join_timeout) {
+        bot.mark_timed_out();
+        return true;
+      }
+      if (now - *bot.last_join_sent_at() >= options.join_resend) send_join(i, now);
+      return false;
+    });
     const std::size_t limit = std::max<std::uint32_t>(1, options.max_pending_joins);
     for (; next_to_join < bots.size() && pending < limit; ++next_to_join) {
       if (bots[next_to_join]->state() != Bot::State::created) continue;  // e.g. no server for its participant
       send_join(next_to_join, now);
       ++pending;
+    }
+  }
+
+  // Bots whose snapshots stopped for rejoin_after join again as new clients.
+  void rejoin_silent(TimePoint now) {
+    if (options.rejoin_after.count() <= 0) return;
+    for (std::size_t i = 0; i < bots.size(); ++i) {
+      const auto old = bots[i]->begin_rejoin(now, options.rejoin_after);
+      if (!old) continue;
+      transports[bot_transport[i]]->unsubscribe_snapshots(*old);
+      if (client_entities.erase(*old) > 0) {
+        other_entities.clear();
+        for (const auto& [id, e] : client_entities) other_entities.push_back(e);
+      }
+      by_nonce[bots[i]->nonce()] = i;
+      send_join(i, now);
+      rejoining.push_back(i);
     }
   }
 
@@ -255,6 +284,7 @@ void Fleet::step() {
       m.applied_match_version = m.match_version;
     }
   }
+  m.rejoin_silent(Clock::now());
   m.pump_joins(Clock::now());
   const std::uint32_t phases = phases_per_tick();
   const std::uint32_t phase = m.phase;

@@ -41,6 +41,8 @@ Aggregate aggregate(const RunReport& report) {
     interarrival.append(b.interarrival_ms);
     a.gap_ticks += b.snapshots.missed_ticks;
     a.longest_gap_ticks = std::max(a.longest_gap_ticks, b.snapshots.longest_gap_ticks);
+    a.rejoins += b.rejoins;
+    a.bots_rejoined += b.rejoins > 0 ? 1 : 0;
     a.out_of_order += b.snapshots.out_of_order;
     a.decode_errors += b.decode_errors;
     a.snapshots += b.snapshots.samples;
@@ -109,7 +111,8 @@ nlohmann::json to_json(const BotReport& b) {
                       {"first_pose", pose_json(b.first_pose)},
                       {"last_pose", pose_json(b.last_pose)},
                       {"moved_m", b.moved_m},
-                      {"world_objects", b.world_objects}};
+                      {"world_objects", b.world_objects},
+                      {"rejoins", b.rejoins}};
   if (!b.refused_reason.empty()) j["refused_reason"] = b.refused_reason;
   return j;
 }
@@ -129,6 +132,8 @@ nlohmann::json to_json(const RunReport& r) {
       {"snapshot_interarrival_ms", summary_json(a.interarrival_ms)},
       {"snapshot_gap_ticks", a.gap_ticks},
       {"max_snapshot_gap_ticks", a.longest_gap_ticks},
+      {"rejoins", a.rejoins},
+      {"bots_rejoined", a.bots_rejoined},
       {"snapshots",
        {{"received", a.snapshots},
         {"bytes", a.bytes},
@@ -164,6 +169,9 @@ std::string to_text(const RunReport& r) {
                    "out of order, {} malformed\n",
                    a.snapshots, a.snapshots_per_s_per_client, a.gap_ticks, a.longest_gap_ticks, a.out_of_order,
                    a.decode_errors);
+  if (a.rejoins > 0)
+    s += fmt::format("  rejoins           {} bots joined again as new clients ({} joins in all): their snapshots stopped\n",
+                     a.bots_rejoined, a.rejoins);
   s += fmt::format("  inter-arrival     p50 {:.1f} ms  p90 {:.1f} ms  p99 {:.1f} ms  max {:.1f} ms\n",
                    a.interarrival_ms.p50, a.interarrival_ms.p90, a.interarrival_ms.p99, a.interarrival_ms.max);
   s += fmt::format("  bandwidth         {:.1f} kbit/s per client (max {:.1f}), {:.2f} MB total\n", a.kbit_per_s_mean,

@@ -108,6 +108,62 @@ TEST(Bot, JoinsSendsCommandsAndMeasures) {
   EXPECT_FALSE(bot.leave_request()) << "only once";
 }
 
+// Its server gone for longer than the limit, a joined bot joins again as a new client: a new
+// nonce, its world, sequences and pending commands reset, the rejoin counted; the stall shows in
+// its snapshot inter-arrival, not as missed ticks of the new client.
+TEST(Bot, JoinsAgainAsANewClientAfterItsSnapshotsStop) {
+  const TimePoint t0{};
+  BotConfig cfg;
+  cfg.name = "b";
+  cfg.behavior = "idle";
+  cfg.nonce = 1234;
+  cfg.seed = 9;
+  Bot bot(cfg, t0);
+  (void)bot.join_request(t0);
+  ASSERT_TRUE(bot.on_join_reply(accepted(1234)));
+  bot.on_snapshot(own_snapshot(50, 0, 3.0f), 120, t0 + milliseconds(40));
+  std::vector<protocol::Command> out;
+  bot.tick(t0 + milliseconds(50), {}, out);
+  ASSERT_EQ(out.size(), 1u);
+
+  EXPECT_FALSE(bot.begin_rejoin(t0 + milliseconds(900), milliseconds(1000))) << "not silent long enough";
+  const auto old = bot.begin_rejoin(t0 + milliseconds(1100), milliseconds(1000));
+  ASSERT_TRUE(old);
+  EXPECT_EQ(*old, 4u);
+  EXPECT_EQ(bot.rejoins(), 1u);
+  EXPECT_EQ(bot.state(), Bot::State::created);
+  EXPECT_NE(bot.nonce(), 1234u);
+  EXPECT_FALSE(bot.begin_rejoin(t0 + milliseconds(5000), milliseconds(1000))) << "only a joined bot rejoins";
+
+  const auto req = bot.join_request(t0 + milliseconds(1100));
+  EXPECT_EQ(req.client_nonce, bot.nonce());
+  protocol::JoinReply again = accepted(bot.nonce());
+  again.client_id = 9;
+  again.entity = 2002;
+  again.snapshot_partition = "c9";
+  ASSERT_TRUE(bot.on_join_reply(again));
+  EXPECT_EQ(bot.client_id(), 9u);
+  // The new server's ticks start low again; they are not "out of order" against the old ones.
+  protocol::Snapshot s = own_snapshot(3, 0, 7.0f);
+  s.client_id = 9;
+  s.entity = 2002;
+  bot.on_snapshot(s, 100, t0 + milliseconds(1300));
+  out.clear();
+  bot.tick(t0 + milliseconds(1310), {}, out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].client_id, 9u);
+  EXPECT_EQ(out[0].entity, 2002u);
+  EXPECT_EQ(out[0].sequence, 1u) << "a new client's sequences start at 1";
+
+  const BotReport r = bot.report(t0 + milliseconds(1400));
+  EXPECT_EQ(r.rejoins, 1u);
+  EXPECT_EQ(r.snapshots.out_of_order, 0u);
+  EXPECT_EQ(r.snapshots.samples, 2u);
+  EXPECT_NEAR(r.interarrival_ms.summary().max, 1260.0, 1e-6) << "the outage, first snapshot to the next";
+  EXPECT_EQ(r.commands.sent, 2u);
+  EXPECT_EQ(r.commands.applied, 0u) << "the first client's command was never seen applied; it is forgotten";
+}
+
 TEST(Bot, RefusedAndTimedOut) {
   const TimePoint t0{};
   BotConfig cfg;

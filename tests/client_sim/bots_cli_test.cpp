@@ -32,6 +32,13 @@ TEST(BotsCli, BadUsageIsRefused) {
   ASSERT_TRUE(code);
   EXPECT_NE(*code, 0);
   EXPECT_NE(testing::read_file(dir / "err").find("moonwalk"), std::string::npos);
+  for (const char* bad : {"nan", "-1", "inf", "4000", "soon"}) {
+    ChildProcess b(kBots, {"--rejoin-after", bad}, dir / "out", dir / "err");
+    const auto c = b.wait(std::chrono::seconds(20));
+    ASSERT_TRUE(c) << bad;
+    EXPECT_NE(*c, 0) << bad;
+    EXPECT_NE(testing::read_file(dir / "err").find("--rejoin-after"), std::string::npos) << bad;
+  }
 }
 
 TEST(BotsCli, RunsWritesJsonAndLeavesOnSigint) {

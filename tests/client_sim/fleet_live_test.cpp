@@ -108,5 +108,49 @@ TEST(FleetLive, ParticipantPerClient) {
   }
 }
 
+// --rejoin-after: the server is killed and a new one starts on the domain; every bot, its
+// snapshots stopped, joins the new server as a new client and plays on; the report counts it.
+TEST(FleetLive, BotsJoinANewServerAfterTheirsDied) {
+  constexpr int kDomain = 177;
+  TempDir first_dir, second_dir;
+  auto first = testing::start_server(kDomain, first_dir);
+  FleetOptions o = fleet_options(kDomain, "wander");
+  o.rejoin_after = std::chrono::milliseconds(1000);
+  Fleet fleet(o);
+  ASSERT_TRUE(fleet.connect()) << testing::read_file(first_dir / "server.log");
+  fleet.launch(3);
+  ASSERT_TRUE(testing::drive_until(fleet, 20, [&] { return testing::all_active(fleet); }));
+  testing::drive_for(fleet, 0.5);
+  std::vector<std::uint32_t> first_ids;
+  for (const auto& r : fleet.reports()) first_ids.push_back(r.client_id);
+  first->kill_now();
+  auto second = testing::start_server(kDomain, second_dir);
+  const auto rejoined = [&] {
+    for (const auto& r : fleet.reports())
+      if (r.rejoins != 1 || r.state != "joined" || r.last_tick == 0) return false;
+    return true;
+  };
+  const bool ok = testing::drive_until(fleet, 30, rejoined);
+  std::string states;
+  for (const auto& r : fleet.reports())
+    states += r.name + ": " + r.state + " rejoins " + std::to_string(r.rejoins) + " client " + std::to_string(r.client_id) +
+              " last tick " + std::to_string(r.last_tick) + "\n";
+  ASSERT_TRUE(ok) << states << testing::read_file(second_dir / "server.log");
+  testing::drive_for(fleet, 1.0);
+  const auto summary = testing::stop_server_and_read_summary(*second, second_dir);
+  const auto reports = fleet.reports();
+  const Aggregate a = aggregate(RunReport{30, 1.0, "test", reports, std::nullopt, std::nullopt});
+  EXPECT_EQ(a.rejoins, 3u);
+  EXPECT_EQ(a.bots_rejoined, 3u);
+  for (const auto& r : reports) {
+    SCOPED_TRACE(r.name);
+    const nlohmann::json* c = testing::find_client(summary, r.name);
+    ASSERT_NE(c, nullptr) << "the new server knows the bot";
+    EXPECT_EQ((*c)["client_id"].get<std::uint32_t>(), r.client_id);
+    EXPECT_GT((*c)["commands_accepted"].get<std::uint64_t>(), 10u) << "it plays on the new server";
+    EXPECT_EQ((*c)["commands_rejected"].get<std::uint64_t>(), 0u) << "its sequences started over";
+  }
+}
+
 }  // namespace
 }  // namespace throng::client_sim

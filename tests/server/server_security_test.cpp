@@ -141,11 +141,11 @@ TEST(SecureMatch, PlayersAreConfinedToTheirOwnClientAndPartitionAndOnlyOperators
 // standby with the server identity follows the secured match.
 TEST(SecureMatch, OnlyTheServerIdentityCanFollowAsAHotStandby) {
   const Pki& p = pki_dirs();
-  auto options = small_server_options(163);
+  auto options = small_server_options(208);
   options.security_dir = p.dir.string();
   ServerThread primary(options);
-  EXPECT_THROW(protocol::StandbyTransport(secure(163, "alice", p.dir, "alice-standby")), protocol::TransportError);
-  EXPECT_THROW(protocol::StandbyTransport(secure(163, protocol::kBotsIdentity, p.dir, "bots-standby")),
+  EXPECT_THROW(protocol::StandbyTransport(secure(208, "alice", p.dir, "alice-standby")), protocol::TransportError);
+  EXPECT_THROW(protocol::StandbyTransport(secure(208, protocol::kBotsIdentity, p.dir, "bots-standby")),
                protocol::TransportError);
 
   auto so = options;

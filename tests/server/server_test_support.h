@@ -28,7 +28,7 @@ namespace throng::test {
 
 using namespace std::chrono_literals;
 
-// Each test passes its own domain id (140..169 and 194..199 belong to tests/server) so parallel
+// Each test passes its own domain id (140..169, 194..199, 207..209 and 230..231 belong to tests/server) so parallel
 // ctest runs never see each other's participants.
 // One HTTP/1.1 GET to 127.0.0.1:port; the raw response ("" when nothing listens).
 inline std::string http_get(std::uint16_t port, const std::string& path) {

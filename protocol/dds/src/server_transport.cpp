@@ -65,12 +65,36 @@ struct ServerTransport::Impl {
     stats_writer = &participant.create_writer(pub, *t.server_stats, kServerStatsProfiles.writer);
     try {
       participant.create_standby_topics();
+    } catch (const TransportError& e) {
+      std::fprintf(stderr, "throng protocol: no hot standby can follow this server: %s\n", e.what());
+    }
+  }
+
+  // The server-to-server endpoints, made by start(): a server that hosts a match. A standby's
+  // transport made early for its takeover must not look like a primary to other standbys (or to
+  // itself) before it hosts. Without them (a security directory made before these topics existed
+  // grants the server none) the match runs, without standby or fencing.
+  void create_standby_endpoints(Handlers& handlers) {
+    if (participant.topics().tick_inputs == nullptr) return;
+    const Topics& t = participant.topics();
+    dds::Publisher& pub = participant.publisher();
+    dds::Subscriber& sub = participant.subscriber();
+    try {
+      standby_request_listener = std::make_unique<TakeAllListener<v1::StandbyRequest>>(
+          [h = std::move(handlers.on_standby_request)](v1::StandbyRequest&& r, const SampleMeta&) {
+            if (h) h(from_idl(std::move(r)));
+          });
+      primary_listener = std::make_unique<TakeAllListener<v1::PrimaryClaim>>(
+          [h = std::move(handlers.on_primary_claim)](v1::PrimaryClaim&& c, const SampleMeta&) {
+            if (h) h(from_idl(std::move(c)));
+          });
       tick_inputs_writer = &participant.create_writer(pub, *t.tick_inputs, kTickInputsProfiles.writer, &tick_inputs_matches);
       standby_sync_writer = &participant.create_writer(pub, *t.standby_sync, kStandbySyncProfiles.writer);
       primary_writer = &participant.create_writer(pub, *t.primary, kPrimaryProfiles.writer);
+      participant.create_reader(sub, *t.standby_request, kStandbyRequestProfiles.reader, standby_request_listener.get());
+      participant.create_reader(sub, *t.primary, kPrimaryProfiles.reader, primary_listener.get());
     } catch (const TransportError& e) {
-      // A security directory made before the standby topics existed grants the server none of
-      // them: the match runs, without a standby.
+      tick_inputs_writer = standby_sync_writer = primary_writer = nullptr;
       std::fprintf(stderr, "throng protocol: no hot standby can follow this server: %s\n", e.what());
     }
   }
@@ -116,25 +140,12 @@ void ServerTransport::start(Handlers handlers) {
         update.sender = meta.writer;
         h(std::move(update));
       });
-  if (s.primary_writer != nullptr) {
-    s.standby_request_listener = std::make_unique<TakeAllListener<v1::StandbyRequest>>(
-        [h = std::move(handlers.on_standby_request)](v1::StandbyRequest&& r, const SampleMeta&) {
-          if (h) h(from_idl(std::move(r)));
-        });
-    s.primary_listener = std::make_unique<TakeAllListener<v1::PrimaryClaim>>(
-        [h = std::move(handlers.on_primary_claim)](v1::PrimaryClaim&& c, const SampleMeta&) {
-          if (h) h(from_idl(std::move(c)));
-        });
-  }
   const Topics& t = s.participant.topics();
   dds::Subscriber& sub = s.participant.subscriber();
   s.participant.create_reader(sub, *t.join_request, kJoinRequestProfiles.reader, s.join_listener.get());
   s.participant.create_reader(sub, *t.command, kCommandProfiles.reader, s.command_listener.get());
   s.participant.create_reader(sub, *t.param_update, kParamProfiles.reader, s.param_listener.get());
-  if (s.standby_request_listener) {
-    s.participant.create_reader(sub, *t.standby_request, kStandbyRequestProfiles.reader, s.standby_request_listener.get());
-    s.participant.create_reader(sub, *t.primary, kPrimaryProfiles.reader, s.primary_listener.get());
-  }
+  s.create_standby_endpoints(handlers);
   s.started = true;
 }
 

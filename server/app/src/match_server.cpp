@@ -113,7 +113,8 @@ struct MatchServer::Impl {
   // paused or cut off): set on a DDS thread, the tick loop then stops without another tick.
   std::atomic<std::uint64_t> fenced_by{0};
   // Orders two claims of one epoch (PrimaryClaim::server_id); a standby's own after a takeover.
-  std::uint64_t server_id = 0;
+  // Fixed before the transport starts: the claim handler reads it on a DDS thread.
+  std::uint64_t server_id = random_server_id();
   std::unique_ptr<protocol::ServerTransport> transport;
   StandbyFeed standby_feed;  // tick entries and checkpoints for hot standbys
   admin::MetricsRegistry registry;
@@ -232,7 +233,7 @@ void MatchServer::Impl::resume(Takeover& t) {
   if (!transport) throw std::runtime_error("takeover without a transport");
   match.restore_checkpoint(t.checkpoint);  // with the primary's snapshot baselines
   epoch = t.epoch;
-  server_id = t.server_id;
+  if (t.server_id != 0) server_id = t.server_id;
   standby_feed.set_epoch(epoch);
   for (const match::ClientSummary& c : match.clients()) {
     transport->open_client_channel(c.client_id, c.partition);
@@ -427,6 +428,10 @@ void MatchServer::Impl::publish_stats(const match::TickReport& report) {
 
 void MatchServer::Impl::run_tick(Clock::time_point woke) {
   if (log) finish_keyframe();  // first: begin_shutdown() and tick() mutate the match
+  if (fenced_by.load() != 0) {  // replaced while the keyframe was collected: not one more tick
+    finished = true;
+    return;
+  }
   const bool stopping = stop_requested.load();
   if (stopping) match.begin_shutdown();  // this tick already refuses joins and says "ended"
 
@@ -555,12 +560,16 @@ int MatchServer::run(bool handle_signals) {
       [&m, id = m.match.match_info().match_id](protocol::PrimaryClaim&& c) {
         const bool above = c.epoch > m.epoch || (c.epoch == m.epoch && c.server_id > m.server_id);
         if (c.match_id == id && above && m.fenced_by.load() == 0) {
+          // Not request_end: a stop request would make the next tick a shutdown tick, whose
+          // "ended" reaches the new primary's clients. The tick loop checks fenced_by instead.
+          {
+            std::lock_guard<std::mutex> lock(m.end_mutex);
+            if (m.end_reason.empty()) m.end_reason = "fenced";
+          }
           m.fenced_by.store(c.epoch);
-          m.request_end("fenced");
         }
       },
   });
-  if (m.server_id == 0) m.server_id = random_server_id();
   m.transport->publish_primary_claim(
       protocol::PrimaryClaim{m.match.match_info().match_id, m.epoch, m.match.tick_index(), m.server_id});
   m.transport->publish_match_info(m.match.match_info());

@@ -11,6 +11,7 @@ namespace throng::server {
 
 StandbyFeed::StandbyFeed(const scene::SceneDef& scene, const match::MatchConfig& config, const std::string& match_id) {
   sync_.epoch = 1;
+  entry_.match_id = match_id;
   matchlog::LogHeader h;
   h.match_id = match_id;
   h.scene = scene;
@@ -29,13 +30,18 @@ void StandbyFeed::on_request(protocol::StandbyRequest&& request) {
 
 void StandbyFeed::after_tick(const match::Match& match, std::uint64_t tick, std::uint64_t state_hash,
                              std::uint8_t flags, protocol::ServerTransport& transport) {
-  // Encoded only while a standby listens: a primary without one pays nothing.
+  // Encoded only while a standby listens: a primary without one pays nothing. A refused write
+  // costs the standby a gap (it asks again), never the match.
   if (transport.standby_matched()) {
     entry_.tick = tick;
     entry_.entry.clear();
     matchlog::encode_tick(tick, match.last_inputs(), state_hash, flags, entry_.entry);
-    transport.publish_tick_entry(entry_);
-    ++stats_.entries_published;
+    try {
+      transport.publish_tick_entry(entry_);
+      ++stats_.entries_published;
+    } catch (const protocol::TransportError& e) {
+      if (stats_.write_errors++ == 0) spdlog::error("hot standby: cannot publish tick entry {}: {}", tick, e.what());
+    }
   }
   {
     std::lock_guard<std::mutex> lock(requests_mutex_);
@@ -51,14 +57,17 @@ void StandbyFeed::after_tick(const match::Match& match, std::uint64_t tick, std:
   stats_.last_sync_bytes = sync_.checkpoint.size();
   sync_.tick = tick;
   sync_.header_json = header_json_;
-  for (std::uint64_t nonce : answering_) {
-    sync_.standby_nonce = nonce;
+  sync_.standby_nonces = answering_;
+  answering_.clear();
+  try {
     transport.publish_standby_sync(sync_);
     ++stats_.syncs_sent;
-    spdlog::info("standby {:016x}: sent the match after tick {} ({} kB checkpoint, saved in {:.2f} ms)", nonce, tick,
-                 sync_.checkpoint.size() / 1024, stats_.last_sync_save_ms);
+    spdlog::info("hot standby: sent the match after tick {} to {} standby(s) ({} kB checkpoint, saved in {:.2f} ms)", tick,
+                 sync_.standby_nonces.size(), sync_.checkpoint.size() / 1024, stats_.last_sync_save_ms);
+  } catch (const protocol::TransportError& e) {
+    ++stats_.write_errors;
+    spdlog::error("hot standby: cannot send the match after tick {}: {} (the standby asks again)", tick, e.what());
   }
-  answering_.clear();
 }
 
 }  // namespace throng::server

@@ -6,6 +6,8 @@
 #include <csignal>
 #include <cstdio>
 #include <deque>
+#include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <mutex>
@@ -92,6 +94,7 @@ struct StandbyServer::Impl {
   // primary at a takeover.
   std::unique_ptr<matchlog::MatchLogWriter> log;
   std::vector<std::uint8_t> keyframe;  // reused
+  std::uint32_t logs_opened = 0;
   std::deque<protocol::TickEntry> waiting;            // entries before the first answer
   bool requested = false;
   Clock::time_point last_request{};
@@ -99,7 +102,7 @@ struct StandbyServer::Impl {
   bool silent = false;
   std::uint64_t mismatches_logged = 0;
   std::uint64_t divergence_reported = 0;  // first tick of the last divergence whose objects were logged
-  double wall_seconds = 0.0;
+  std::atomic<double> wall_seconds{0.0};  // read by summary() from any thread
 
   mutable std::mutex status_mutex;
   StandbyStatus st;  // guarded by status_mutex (written by the loop, read by status())
@@ -107,7 +110,7 @@ struct StandbyServer::Impl {
   // After a takeover: the match server this standby became (guarded by primary_mutex).
   std::mutex primary_mutex;
   std::unique_ptr<MatchServer> primary;
-  bool took_over = false;
+  std::atomic<bool> took_over{false};  // read by the signal thread
 
   // The DDS participants go first: their listener threads call into the members declared after them.
   ~Impl() {
@@ -121,6 +124,7 @@ struct StandbyServer::Impl {
         server_transport(o.takeover_after_ticks > 0 ? std::make_unique<protocol::ServerTransport>(transport_options(o))
                                                     : nullptr) {}
 
+  void stop_all(const char* reason);
   void request_end(const char* reason) {
     {
       std::lock_guard<std::mutex> lock(end_mutex);
@@ -133,6 +137,7 @@ struct StandbyServer::Impl {
   void maybe_request(Clock::time_point now);
   void apply_sync(protocol::StandbySync&& sync);
   void apply_entry(protocol::TickEntry&& entry, Clock::time_point now);
+  void feed(const protocol::TickEntry& entry);
   void check_silence(Clock::time_point now);
   void publish_status();
   void open_log(const matchlog::LogHeader& answer, const protocol::StandbySync& sync);
@@ -142,18 +147,19 @@ struct StandbyServer::Impl {
   bool primary_gone(Clock::time_point now) const;
   // Follows until the end or a takeover; true for a takeover.
   bool follow_loop(Clock::time_point end_at);
-  int host_the_match(bool handle_signals);
+  int host_the_match();
 };
 
 StandbyServer::StandbyServer(const ServerOptions& options) : impl_(std::make_unique<Impl>(options)) {}
 StandbyServer::~StandbyServer() = default;
 
-void StandbyServer::request_stop() {
-  {
-    std::lock_guard<std::mutex> lock(impl_->primary_mutex);
-    if (impl_->primary) impl_->primary->request_stop();
-  }
-  impl_->request_end("stopped");
+void StandbyServer::request_stop() { impl_->stop_all("stopped"); }
+
+// First the flag (a takeover that starts now checks it once its server exists), then the server.
+void StandbyServer::Impl::stop_all(const char* reason) {
+  request_end(reason);
+  std::lock_guard<std::mutex> lock(primary_mutex);
+  if (primary) primary->request_stop();
 }
 
 StandbyStatus StandbyServer::status() const {
@@ -205,7 +211,9 @@ void StandbyServer::Impl::apply_sync(protocol::StandbySync&& sync) {
       built = std::make_unique<matchlog::MatchFollower>(answer, fo);
     }
     matchlog::MatchFollower& f = fresh ? *built : *follower;
+    const std::uint64_t restored_before = f.stats().checkpoints;
     f.on_checkpoint(sync.checkpoint);  // throws with the follower unchanged
+    const bool restored = f.stats().checkpoints > restored_before;  // else older than the match (ignored)
     if (fresh) {
       follower = std::move(built);
       header = answer;
@@ -215,14 +223,17 @@ void StandbyServer::Impl::apply_sync(protocol::StandbySync&& sync) {
       spdlog::info("standby: following match {} (scene '{}', {} bodies, {} Hz) from tick {} ({} kB checkpoint)",
                    answer.match_id, answer.scene.name, f.match().world().pos_x().size(), answer.config.tick_hz,
                    sync.tick, sync.checkpoint.size() / 1024);
-    } else {
+    } else if (restored) {
       spdlog::info("standby: resynchronised from the primary's checkpoint after tick {}", sync.tick);
       report_divergence();
-      stop_log(fmt::format("it resynchronised from the checkpoint of tick {}", sync.tick));
+      // A log cannot skip the ticks the standby did not apply: the next one starts here.
+      stop_log(fmt::format("the standby resynchronised from the checkpoint of tick {}", sync.tick));
+      open_log(header, sync);
     }
     primary_epoch = sync.epoch;
     std::lock_guard<std::mutex> lock(status_mutex);
     st.match_id = answer.match_id;
+    if (!st.synced) st.first_sync_tick = sync.tick;
     st.synced = true;
     ++st.syncs_received;
   } catch (const std::exception& e) {
@@ -231,15 +242,22 @@ void StandbyServer::Impl::apply_sync(protocol::StandbySync&& sync) {
     ++st.syncs_refused;
     return;
   }
-  // Entries that came before the first answer: the follower drops those the checkpoint covers.
+  // Entries that came before the first answer (counted then): the follower drops those the
+  // checkpoint covers.
   while (!waiting.empty()) {
-    protocol::TickEntry e = std::move(waiting.front());
+    const protocol::TickEntry e = std::move(waiting.front());
     waiting.pop_front();
-    apply_entry(std::move(e), Clock::now());
+    if (e.match_id == header.match_id) feed(e);
   }
 }
 
 void StandbyServer::Impl::apply_entry(protocol::TickEntry&& entry, Clock::time_point now) {
+  if (follower && entry.match_id != header.match_id) {
+    // Another primary's match on the same domain.
+    std::lock_guard<std::mutex> lock(status_mutex);
+    ++st.entries_foreign;
+    return;
+  }
   last_entry_at = now;
   {
     std::lock_guard<std::mutex> lock(status_mutex);
@@ -256,6 +274,10 @@ void StandbyServer::Impl::apply_entry(protocol::TickEntry&& entry, Clock::time_p
     }
     return;
   }
+  feed(entry);
+}
+
+void StandbyServer::Impl::feed(const protocol::TickEntry& entry) {
   try {
     follower->on_tick_entry(entry.entry);
   } catch (const matchlog::LogError& e) {
@@ -305,9 +327,16 @@ void StandbyServer::Impl::publish_status() {
 // never replaces the primary's log on a shared disk.
 void StandbyServer::Impl::open_log(const matchlog::LogHeader& answer, const protocol::StandbySync& sync) {
   if (options.log_file.empty()) return;
-  const std::string path = options.log_file == "auto"
-                               ? fmt::format("{}/{}.standby-{}.tlog", options.log_dir, answer.match_id, ::getpid())
-                               : options.log_file;
+  // The first log keeps the name; one begun after a resynchronisation says from which tick.
+  const std::string from = logs_opened == 0 ? std::string() : fmt::format(".from-{}", sync.tick);
+  std::string path;
+  if (options.log_file == "auto") {
+    path = fmt::format("{}/{}.standby-{}{}.tlog", options.log_dir, answer.match_id, ::getpid(), from);
+  } else {
+    const std::filesystem::path p(options.log_file);
+    path = (p.parent_path() / (p.stem().string() + from + p.extension().string())).string();
+  }
+  ++logs_opened;
   try {
     matchlog::WriterOptions wo;
     wo.keyframe_snapshot_baselines = options.log_baselines;
@@ -407,7 +436,7 @@ bool StandbyServer::Impl::follow_loop(Clock::time_point end_at) {
 
 // The takeover: the followed match, saved with its snapshot baselines, becomes a MatchServer on
 // the transport made at start; it runs until the match ends as any primary does.
-int StandbyServer::Impl::host_the_match(bool handle_signals) {
+int StandbyServer::Impl::host_the_match() {
   const auto t0 = Clock::now();
   const std::uint64_t silent_ms =
       std::chrono::duration_cast<std::chrono::milliseconds>(t0 - Clock::time_point(Clock::duration(last_arrival_ns.load()))).count();
@@ -425,20 +454,20 @@ int StandbyServer::Impl::host_the_match(bool handle_signals) {
   spdlog::warn("standby: the primary has sent nothing for {} ms (limit {} ticks) after tick {}: taking over the match",
                silent_ms, options.takeover_after_ticks, follower->tick());
   ServerOptions o = options;
-  if (o.duration_s > 0) o.duration_s = std::max(0.1, o.duration_s - wall_seconds);  // --duration counts from the start
+  if (o.duration_s > 0) o.duration_s = std::max(0.1, o.duration_s - wall_seconds.load());  // --duration counts from the start
   {
     std::lock_guard<std::mutex> lock(primary_mutex);
     primary = std::make_unique<MatchServer>(o, std::move(t));
     took_over = true;
+    if (stop_requested.load()) primary->request_stop();  // a stop that came while it was made
   }
   {
     std::lock_guard<std::mutex> lock(status_mutex);
     st.took_over = true;
   }
   spdlog::info("standby: took over in {:.1f} ms", std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-  if (stop_requested.load()) primary->request_stop();
-  const int code = primary->run(handle_signals);
-  return code;
+  // The standby's signal thread stays: a SIGTERM reaches the hosted match through stop_all.
+  return primary->run(false);
 }
 
 int StandbyServer::run(bool handle_signals) {
@@ -446,13 +475,28 @@ int StandbyServer::run(bool handle_signals) {
   boost::asio::io_context io;
   boost::asio::signal_set signals(io);
   std::thread signal_thread;
+  // Stops and joins the signal thread on every way out, exceptions included (a joinable
+  // std::thread destroyed would terminate the process).
+  struct SignalThreadGuard {
+    boost::asio::signal_set& signals;
+    boost::asio::io_context& io;
+    std::thread& thread;
+    ~SignalThreadGuard() {
+      if (!thread.joinable()) return;
+      boost::system::error_code ignored;
+      signals.cancel(ignored);
+      io.stop();
+      thread.join();
+    }
+  } guard{signals, io, signal_thread};
   if (handle_signals) {
     signals.add(SIGINT);
     signals.add(SIGTERM);
     signals.async_wait([&](const boost::system::error_code& ec, int signo) {
       if (ec) return;
-      spdlog::info("{} received: the standby stops following", signo == SIGINT ? "SIGINT" : "SIGTERM");
-      m.request_end("signal");
+      spdlog::info("{} received: {}", signo == SIGINT ? "SIGINT" : "SIGTERM",
+                   m.took_over.load() ? "ending the match" : "the standby stops following");
+      m.stop_all("signal");
     });
     signal_thread = std::thread([&io] { io.run(); });
   }
@@ -471,7 +515,8 @@ int StandbyServer::run(bool handle_signals) {
         m.queue_changed.notify_one();
       },
       [&m](protocol::StandbySync&& s) {
-        if (s.standby_nonce != m.nonce) return;  // another standby's answer
+        if (std::find(s.standby_nonces.begin(), s.standby_nonces.end(), m.nonce) == s.standby_nonces.end())
+          return;  // answers other standbys' requests
         {
           std::lock_guard<std::mutex> lock(m.queue_mutex);
           m.queued_sync = std::move(s);
@@ -489,9 +534,8 @@ int StandbyServer::run(bool handle_signals) {
                m.options.loopback_only ? "127.0.0.1 only" : "default network",
                m.options.security_dir.empty() ? "" : ", DDS Security with the server identity");
 
-  if (!m.options.log_file.empty() || m.options.admin_port >= 0)
-    spdlog::info("standby: it writes no match log and serves no admin HTTP while it follows (--log and --admin-port "
-                 "apply after a takeover)");
+  if (m.options.admin_port >= 0)
+    spdlog::info("standby: it serves no admin HTTP while it follows (--admin-port applies after a takeover)");
   spdlog::info("standby: {}", m.options.takeover_after_ticks > 0
                                   ? fmt::format("takes over when the primary sends nothing for {} ticks",
                                                 m.options.takeover_after_ticks)
@@ -502,11 +546,6 @@ int StandbyServer::run(bool handle_signals) {
                           : Clock::time_point::max();
   const bool takeover = m.follow_loop(end_at);
   m.wall_seconds = std::chrono::duration<double>(Clock::now() - started).count();
-  if (handle_signals) {
-    signals.cancel();
-    io.stop();
-    signal_thread.join();
-  }
   if (!takeover && m.log) {
     const std::string path = m.log->path();
     try {
@@ -524,7 +563,7 @@ int StandbyServer::run(bool handle_signals) {
     const StandbyStatus st = status();
     spdlog::info("standby: applied {} ticks with the primary's hash, {} checkpoints, before the takeover",
                  st.follower.applied, st.follower.checkpoints);
-    return m.host_the_match(handle_signals);
+    return m.host_the_match();
   }
 
   const nlohmann::json s = summary();
@@ -544,7 +583,7 @@ int StandbyServer::run(bool handle_signals) {
              stdout);
   std::fflush(stdout);
   const int code = !st.synced ? 4 : st.following ? 0 : 3;
-  spdlog::info("standby ended after {:.1f} s; exit {}", m.wall_seconds, code);
+  spdlog::info("standby ended after {:.1f} s; exit {}", m.wall_seconds.load(), code);
   return code;
 }
 
@@ -569,8 +608,9 @@ nlohmann::json StandbyServer::summary() const {
       {"role", "standby"},
       {"match_id", st.match_id},
       {"end_reason", reason},
-      {"wall_seconds", impl_->wall_seconds},
+      {"wall_seconds", impl_->wall_seconds.load()},
       {"synced", st.synced},
+      {"first_sync_tick", st.first_sync_tick},
       {"following", st.following},
       {"tick", st.tick},
       {"primary_tick", st.primary_tick},
@@ -587,6 +627,7 @@ nlohmann::json StandbyServer::summary() const {
       {"held_dropped", st.follower.held_dropped},
       {"entries_received", st.entries_received},
       {"entries_refused", st.entries_refused},
+      {"entries_foreign", st.entries_foreign},
       {"entries_dropped", st.entries_dropped_waiting + queue_dropped},
       {"requests_sent", st.requests_sent},
       {"syncs_received", st.syncs_received},

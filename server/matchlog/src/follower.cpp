@@ -47,6 +47,11 @@ void MatchFollower::on_checkpoint(std::span<const std::uint8_t> checkpoint) {
   resim_.restore(checkpoint);  // throws with the match unchanged (the restore stages before it commits)
   ++stats_.checkpoints;
   diverged_ = false;
+  // An entry further ahead of the primary's own checkpoint than the hold limit cannot be the
+  // primary's next ticks (a damaged entry, another server's): held, it would keep the follower
+  // waiting for ticks that never come.
+  for (auto it = held_.upper_bound(tick() + options_.max_held_ticks); it != held_.end(); it = held_.erase(it))
+    ++stats_.held_dropped;
   apply_held();
 }
 

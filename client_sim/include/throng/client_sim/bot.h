@@ -4,6 +4,7 @@
 // snapshots, and once it has seen its own entity emits its behavior's commands once per loop
 // tick (camera = its entity). Thread-safe: snapshots arrive on DDS threads while the fleet's loop
 // ticks the bot; every public member locks the bot's mutex.
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -56,6 +57,12 @@ class Bot {
   // the bot's snapshots then); a repeated or late reply returns false.
   bool on_join_reply(const protocol::JoinReply& reply);
   void mark_timed_out();  // created or joining -> timed_out
+  // A joined bot that has received no snapshot for `silence` (its server is gone and nobody took
+  // its match over) starts again as a new client: a new nonce, joining, its world, sequences and
+  // pending commands reset. Returns the old client id (to unsubscribe its snapshots); nullopt
+  // when not joined or not silent that long.
+  std::optional<std::uint32_t> begin_rejoin(TimePoint now, std::chrono::milliseconds silence);
+  std::uint32_t rejoins() const;
   // nullopt unless joined; marks the bot left.
   std::optional<protocol::JoinRequest> leave_request();
 
@@ -88,6 +95,8 @@ class Bot {
   BotMetrics metrics_;
   std::optional<ObjectState> first_pose_;
   std::optional<TimePoint> first_tick_time_;
+  std::shared_ptr<const MatchView> match_;  // the newest, for a fresh world after a rejoin
+  std::uint32_t rejoins_ = 0;
 };
 
 }  // namespace throng::client_sim

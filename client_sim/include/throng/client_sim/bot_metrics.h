@@ -58,6 +58,10 @@ class BotMetrics {
   std::optional<TimePoint> first_snapshot() const { return first_snapshot_; }
   std::optional<TimePoint> last_snapshot() const { return last_snapshot_; }
   std::size_t pending_commands() const { return pending_.size(); }
+  // The bot joins again as a new client (its server is gone): commands still waiting were never
+  // applied and are forgotten, and the new client's ticks are not compared with the old one's. The
+  // arrival times go on, so the wait for the next snapshot shows the whole outage.
+  void on_rejoin();
 
   // Latencies measured since the last call (for the live progress line).
   Samples take_window_latency();

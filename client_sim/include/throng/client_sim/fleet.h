@@ -46,6 +46,10 @@ struct FleetOptions {
   // with its original reply).
   std::uint32_t max_pending_joins = 32;
   std::chrono::milliseconds join_resend{2000};
+  // A joined bot that has received no snapshot for this long joins again as a new client (its
+  // server died and nobody took the match over); 0 = never. A hot standby's takeover must leave
+  // this at 0 rejoins (docs/design/standby.md).
+  std::chrono::milliseconds rejoin_after{0};
   ClientWorld::Options world{};
 };
 

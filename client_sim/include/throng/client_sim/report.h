@@ -41,6 +41,7 @@ struct BotReport {
   std::optional<ObjectState> first_pose, last_pose;  // own entity
   double moved_m = 0;          // horizontal distance first_pose -> last_pose
   std::size_t world_objects = 0;
+  std::uint32_t rejoins = 0;   // times it joined again after its snapshots stopped (--rejoin-after)
 
   double kbit_per_s() const { return active_s > 0 ? snapshots.bytes * 8.0 / 1000.0 / active_s : 0.0; }
 };
@@ -59,6 +60,8 @@ struct Aggregate {
   Summary latency_ms, interarrival_ms, join_ms;
   std::uint64_t gap_ticks = 0, out_of_order = 0, decode_errors = 0;
   std::uint64_t longest_gap_ticks = 0;  // the longest run of missed ticks at any bot
+  std::uint64_t rejoins = 0;            // joins again, over all bots (--rejoin-after)
+  std::size_t bots_rejoined = 0;        // bots that joined again at least once
   std::uint64_t snapshots = 0, bytes = 0;
   double snapshots_per_s_per_client = 0;
   double kbit_per_s_mean = 0, kbit_per_s_max = 0;  // over bots that received snapshots

@@ -53,9 +53,9 @@
   X(commands_accepted) X(commands_rejected) X(snapshot_bytes) X(snapshot_samples) X(push_events) X(state_hash) \
   X(state)
 
-#define THRONG_TICK_ENTRY_FIELDS(X) X(tick) X(entry)
+#define THRONG_TICK_ENTRY_FIELDS(X) X(match_id) X(tick) X(entry)
 #define THRONG_STANDBY_REQUEST_FIELDS(X) X(standby_nonce) X(have_tick)
-#define THRONG_STANDBY_SYNC_FIELDS(X) X(standby_nonce) X(tick) X(epoch) X(header_json) X(checkpoint)
+#define THRONG_STANDBY_SYNC_FIELDS(X) X(standby_nonces) X(tick) X(epoch) X(header_json) X(checkpoint)
 #define THRONG_PRIMARY_CLAIM_FIELDS(X) X(match_id) X(epoch) X(tick) X(server_id)
 
 namespace throng::protocol::detail {

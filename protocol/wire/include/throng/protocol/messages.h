@@ -243,6 +243,7 @@ struct ServerStats {
 // One tick as the primary applied it: the match log's tick entry (matchlog::encode_tick: the
 // inputs in applied order, the state hash, flags). Reliable and ordered, primary -> standbys.
 struct TickEntry {
+  std::string match_id;  // a standby follows one match; another primary on the domain is not it
   std::uint64_t tick = 0;
   std::vector<std::uint8_t> entry;
 };
@@ -257,7 +258,9 @@ struct StandbyRequest {
 // The primary's answer: its match log header (JSON text: scene, config, match id, build) and a
 // checkpoint saved after `tick`, with the snapshot baselines. Reliable, primary -> standbys.
 struct StandbySync {
-  std::uint64_t standby_nonce = 0;
+  // Every standby this answer is for (requests that arrived by the same tick share one answer: a
+  // keep-last-1 writer would replace one answer with the next before it left).
+  std::vector<std::uint64_t> standby_nonces;
   std::uint64_t tick = 0;
   std::uint64_t epoch = 0;  // the primary's (PrimaryClaim); a standby that takes over claims epoch + 1
   std::vector<std::uint8_t> header_json;

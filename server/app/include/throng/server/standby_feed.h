@@ -21,6 +21,7 @@ struct StandbyFeedStats {
   std::uint64_t syncs_sent = 0;         // answers to standby requests
   double last_sync_save_ms = 0.0;       // the last answer's checkpoint save, on the tick thread
   std::size_t last_sync_bytes = 0;
+  std::uint64_t write_errors = 0;       // entries or answers Fast DDS refused (logged once, counted)
 };
 
 class StandbyFeed {
@@ -28,7 +29,8 @@ class StandbyFeed {
   // The match as the primary built it: what its log header says.
   StandbyFeed(const scene::SceneDef& scene, const match::MatchConfig& config, const std::string& match_id);
 
-  // A standby asked for the match (any thread).
+  // A standby asked for the match (any thread). Requests that arrive by the same tick share one
+  // answer.
   void on_request(protocol::StandbyRequest&& request);
 
   // After the tick `tick` of `match` (its inputs are match.last_inputs()): publishes its entry when

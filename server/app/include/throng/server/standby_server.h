@@ -23,6 +23,7 @@ namespace throng::server {
 struct StandbyStatus {
   std::string match_id;              // the primary's, once it answered
   bool synced = false;               // the standby holds the primary's match
+  std::uint64_t first_sync_tick = 0; // the tick of the first answer it started from
   bool following = false;            // ... and every tick up to `tick` matched the primary's hash
   std::uint64_t tick = 0;            // ticks applied
   std::uint64_t state_hash = 0;      // the standby's match after `tick`
@@ -33,6 +34,7 @@ struct StandbyStatus {
   std::uint64_t syncs_received = 0;   // answers addressed to this standby
   std::uint64_t syncs_refused = 0;    // answers whose header or checkpoint did not load
   std::uint64_t entries_dropped_waiting = 0;  // entries dropped before the first answer (bounded wait)
+  std::uint64_t entries_foreign = 0;  // entries of another match's primary on the same domain (ignored)
   bool primary_ended = false;         // an applied tick said the primary began its shutdown
   bool took_over = false;             // the standby now hosts the match (primary_summary())
   matchlog::FollowerStats follower;
