@@ -48,9 +48,13 @@ protocol::JoinRequest Bot::join_request(TimePoint now) {
   return join_.join_request(now);
 }
 
-bool Bot::on_join_reply(const protocol::JoinReply& reply) {
+bool Bot::on_join_reply(const protocol::JoinReply& reply) { return on_join_reply(reply, Clock::now()); }
+
+bool Bot::on_join_reply(const protocol::JoinReply& reply, TimePoint now) {
   std::lock_guard lock(mutex_);
-  return join_.on_join_reply(reply);
+  const bool accepted = join_.on_join_reply(reply);
+  if (accepted) joined_at_ = now;
+  return accepted;
 }
 
 void Bot::mark_timed_out() {
@@ -72,10 +76,10 @@ void Bot::set_match(std::shared_ptr<const MatchView> match) {
 std::optional<std::uint32_t> Bot::begin_rejoin(TimePoint now, std::chrono::milliseconds silence) {
   std::lock_guard lock(mutex_);
   if (join_.state() != State::joined) return std::nullopt;
-  // Silent since the newest snapshot or, after a rejoin, since the join (the old snapshots do not
-  // count against the new client).
+  // Silent since the newest snapshot or, after a rejoin, since the new client was accepted (the
+  // old client's snapshots do not count against it, nor the wait for the reply).
   std::optional<TimePoint> last = metrics_.last_snapshot();
-  if (const auto sent = join_.last_join_sent_at(); sent && (!last || *sent > *last)) last = sent;
+  if (joined_at_ && (!last || *joined_at_ > *last)) last = joined_at_;
   if (!last || now - *last < silence) return std::nullopt;
   const std::uint32_t old = join_.reply().client_id;
   join_ = JoinHandshake(0, config_.name);  // a new nonce: the server must not see the old join again

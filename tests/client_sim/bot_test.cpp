@@ -120,7 +120,7 @@ TEST(Bot, JoinsAgainAsANewClientAfterItsSnapshotsStop) {
   cfg.seed = 9;
   Bot bot(cfg, t0);
   (void)bot.join_request(t0);
-  ASSERT_TRUE(bot.on_join_reply(accepted(1234)));
+  ASSERT_TRUE(bot.on_join_reply(accepted(1234), t0 + milliseconds(20)));
   bot.on_snapshot(own_snapshot(50, 0, 3.0f), 120, t0 + milliseconds(40));
   std::vector<protocol::Command> out;
   bot.tick(t0 + milliseconds(50), {}, out);
@@ -141,7 +141,9 @@ TEST(Bot, JoinsAgainAsANewClientAfterItsSnapshotsStop) {
   again.client_id = 9;
   again.entity = 2002;
   again.snapshot_partition = "c9";
-  ASSERT_TRUE(bot.on_join_reply(again));
+  ASSERT_TRUE(bot.on_join_reply(again, t0 + milliseconds(1250)));
+  EXPECT_FALSE(bot.begin_rejoin(t0 + milliseconds(2000), milliseconds(1000)))
+      << "silence counts from the new client's acceptance, not from the old snapshots";
   EXPECT_EQ(bot.client_id(), 9u);
   // The new server's ticks start low again; they are not "out of order" against the old ones.
   protocol::Snapshot s = own_snapshot(3, 0, 7.0f);

@@ -56,6 +56,7 @@ class Bot {
   // The reply for this bot's nonce. Returns true when it was accepted now (the owner subscribes
   // the bot's snapshots then); a repeated or late reply returns false.
   bool on_join_reply(const protocol::JoinReply& reply);
+  bool on_join_reply(const protocol::JoinReply& reply, TimePoint now);  // now: when it arrived
   void mark_timed_out();  // created or joining -> timed_out
   // A joined bot that has received no snapshot for `silence` (its server is gone and nobody took
   // its match over) starts again as a new client: a new nonce, joining, its world, sequences and
@@ -97,6 +98,7 @@ class Bot {
   std::optional<TimePoint> first_tick_time_;
   std::shared_ptr<const MatchView> match_;  // the newest, for a fresh world after a rejoin
   std::uint32_t rejoins_ = 0;
+  std::optional<TimePoint> joined_at_;  // when the current client was accepted (steady clock)
 };
 
 }  // namespace throng::client_sim

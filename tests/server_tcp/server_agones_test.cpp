@@ -232,9 +232,8 @@ TEST(Agones, ListensOnThePortAgonesAllocatedToDds) {
   auto o = agones_options(166, sdk.port());
   o.listen = server::kListenAgones;
   ServerThread server(o);
-  TestClient player(tcp_client_options(166, port, "agones-player"), 15s);
-  const auto r = player.join(5, "player");
-  ASSERT_TRUE(r && r->result == protocol::JoinResult::accepted);
+  const TcpJoin player = join_over_tcp(166, port, "agones-player", 5);
+  ASSERT_TRUE(player.accepted());
   ASSERT_FALSE(sdk.of("GET", "/gameserver").empty());
   server.stop();
 }

@@ -13,9 +13,10 @@ TEST(ServerTcp, AClientJoinsAndPlaysOverTcpOnly) {
   auto o = small_server_options(164);
   o.listen = "tcp://0.0.0.0:" + std::to_string(port);
   ServerThread server(o);
-  TestClient client(tcp_client_options(164, port, "tcp-client"), 15s);
-  const auto r = client.join(77, "over-tcp");
-  ASSERT_TRUE(r && r->result == protocol::JoinResult::accepted);
+  const TcpJoin joined = join_over_tcp(164, port, "over-tcp", 77);
+  ASSERT_TRUE(joined.accepted());
+  TestClient& client = *joined.client;
+  const auto& r = joined.reply;
   client.transport().send_command(standing_command(*r, 1));
   EXPECT_TRUE(client.wait_until([&] { return last_applied(client.snapshots(), r->client_id) == 1; }))
       << "no snapshot confirmed the command";
