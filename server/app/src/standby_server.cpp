@@ -423,10 +423,12 @@ bool StandbyServer::Impl::follow_loop(Clock::time_point end_at) {
       batch.swap(queued);
       sync.swap(queued_sync);
     }
-    if (sync) apply_sync(std::move(*sync));
-    sync.reset();
+    // Entries first: an answer compares a diverged match with the primary's checkpoint after
+    // stepping it on with the held entries, and those that came in the same batch belong to them.
     for (protocol::TickEntry& e : batch) apply_entry(std::move(e), Clock::now());
     batch.clear();
+    if (sync) apply_sync(std::move(*sync));
+    sync.reset();
     publish_status();
     if (primary_gone(Clock::now())) return true;
     check_silence(Clock::now());
