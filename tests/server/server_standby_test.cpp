@@ -196,6 +196,30 @@ TEST(Standby, ThatDivergesOnPurposeAsksAgainAndResynchronises) {
   EXPECT_TRUE(walker_named) << d.dump(2);
 }
 
+// One command per tick for a joined client, from a thread of its own, until destroyed (also when
+// an assertion ends the test early).
+class CommandStream {
+ public:
+  CommandStream(TestClient& client, const protocol::JoinReply& reply, float move_x = 0.0f)
+      : thread_([this, &client, reply, move_x] {
+          for (std::uint32_t seq = 1; !stop_.load(); ++seq) {
+            protocol::Command c = standing_command(reply, seq);
+            c.move_x = move_x;
+            client.transport().send_command(c);
+            std::this_thread::sleep_for(33ms);
+          }
+        }) {}
+  ~CommandStream() { stop(); }
+  void stop() {
+    stop_.store(true);
+    if (thread_.joinable()) thread_.join();
+  }
+
+ private:
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
 const std::string kServer = std::string(THRONG_BIN_DIR) + "/throng-server";
 
 // The largest number of ticks in a row a client received no snapshot for, among its snapshots in
@@ -238,17 +262,7 @@ TEST(Standby, TakesOverWhenThePrimaryIsKilledAndItsClientPlaysOnWithoutRejoining
   TestClient client(209);
   const auto reply = client.join(9, "stays");
   ASSERT_TRUE(reply && reply->result == protocol::JoinResult::accepted) << read_file(dir / "err.txt");
-  std::atomic<std::uint32_t> sent{0};
-  std::atomic<bool> stop{false};
-  std::thread commands([&] {
-    for (std::uint32_t seq = 1; !stop.load(); ++seq) {
-      protocol::Command c = standing_command(*reply, seq);
-      c.move_x = 0.6f;
-      client.transport().send_command(c);
-      sent.store(seq);
-      std::this_thread::sleep_for(33ms);
-    }
-  });
+  CommandStream commands(client, *reply, 0.6f);
   ASSERT_TRUE(standby.wait_until([](const server::StandbyStatus& s) { return s.following && s.tick >= 60; }, 30s))
       << standby.standby().summary().dump();
   ASSERT_TRUE(client.wait_until([&] { return last_applied(client.snapshots(), reply->client_id) >= 20; }));
@@ -259,8 +273,7 @@ TEST(Standby, TakesOverWhenThePrimaryIsKilledAndItsClientPlaysOnWithoutRejoining
       << standby.standby().summary().dump();
   // Commands apply again on the new primary, under the same client id and sequence.
   EXPECT_TRUE(client.wait_until([&] { return last_applied(client.snapshots(), reply->client_id) > applied_before + 15; }, 10s));
-  stop.store(true);
-  commands.join();
+  commands.stop();
 
   const std::uint64_t gap = client.with_lock([&] { return longest_snapshot_gap(client.snapshots(), reply->client_id); });
   EXPECT_LE(gap, 6u) << "ticks without a snapshot across the takeover";
@@ -305,13 +318,7 @@ TEST(Standby, APausedPrimaryThatWakesUpAfterATakeoverStopsItself) {
   TestClient client(169);
   const auto reply = client.join(11, "stays");
   ASSERT_TRUE(reply && reply->result == protocol::JoinResult::accepted) << read_file(dir / "err.txt");
-  std::atomic<bool> stop{false};
-  std::thread commands([&] {
-    for (std::uint32_t seq = 1; !stop.load(); ++seq) {
-      client.transport().send_command(standing_command(*reply, seq));
-      std::this_thread::sleep_for(33ms);
-    }
-  });
+  CommandStream commands(client, *reply);
   ASSERT_TRUE(standby.wait_until([](const server::StandbyStatus& s) { return s.following && s.tick >= 45; }, 30s));
   primary.signal(SIGSTOP);
   ASSERT_TRUE(standby.wait_until([](const server::StandbyStatus& s) { return s.took_over; }, 10s));
@@ -328,8 +335,7 @@ TEST(Standby, APausedPrimaryThatWakesUpAfterATakeoverStopsItself) {
   // The new primary still hosts the client; nobody told it the match ended.
   const std::uint32_t applied = client.with_lock([&] { return last_applied(client.snapshots(), reply->client_id); });
   EXPECT_TRUE(client.wait_until([&] { return last_applied(client.snapshots(), reply->client_id) > applied + 10; }, 10s));
-  stop.store(true);
-  commands.join();
+  commands.stop();
   EXPECT_TRUE(client.with_lock([&] {
     for (const auto& m : client.match_infos())
       if (m.state == protocol::MatchState::ended) return false;
@@ -357,13 +363,7 @@ TEST(Standby, TwoStandbysOfAKilledPrimaryLeaveExactlyOneHostingTheMatch) {
   TestClient client(230);
   const auto reply = client.join(13, "stays");
   ASSERT_TRUE(reply && reply->result == protocol::JoinResult::accepted) << read_file(dir / "err.txt");
-  std::atomic<bool> stop{false};
-  std::thread commands([&] {
-    for (std::uint32_t seq = 1; !stop.load(); ++seq) {
-      client.transport().send_command(standing_command(*reply, seq));
-      std::this_thread::sleep_for(33ms);
-    }
-  });
+  CommandStream commands(client, *reply);
   const auto follows = [](const server::StandbyStatus& s) { return s.following && s.tick >= 45; };
   ASSERT_TRUE(a.wait_until(follows, 30s));
   ASSERT_TRUE(b.wait_until(follows, 30s));
@@ -385,8 +385,7 @@ TEST(Standby, TwoStandbysOfAKilledPrimaryLeaveExactlyOneHostingTheMatch) {
     }
   }
   EXPECT_EQ(hosting, 1) << a.standby().summary().dump() << "\n" << b.standby().summary().dump();
-  stop.store(true);
-  commands.join();
+  commands.stop();
   a.stop();
   b.stop();
 }
