@@ -241,6 +241,18 @@ TEST(DdsTransport, WaitForServerTimesOutWhenNoServerRuns) {
   EXPECT_GE(std::chrono::steady_clock::now() - before, std::chrono::milliseconds(300));
 }
 
+// Fast DDS 2.9.1 would number a process's participants from a counter that never goes down, and
+// discovery on loopback tries only ids 0..119: two participants made after 125 others (a standby
+// that takes over in a long-lived process, a test binary) would never find each other.
+TEST(DdsTransport, ParticipantsMadeAfterManyOthersInOneProcessStillDiscoverEachOther) {
+  for (int i = 0; i < 125; ++i) ClientTransport churn(loopback(123, "churn-" + std::to_string(i)));
+  ServerTransport server(loopback(123, "late-server"));
+  server.start({});
+  ClientTransport client(loopback(123, "late-client"));
+  client.start({});
+  EXPECT_TRUE(client.wait_for_server(kWait));
+}
+
 TEST(DdsTransport, NetworkModeUsesFastDdsDefaultTransports) {
   TransportOptions network = loopback(121, "network-server");
   network.loopback_only = false;

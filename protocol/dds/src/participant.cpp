@@ -25,8 +25,7 @@ dds::Topic* make_topic(dds::DomainParticipant& participant, const char* topic_na
 
 void destroy(dds::DomainParticipant* participant) {
   if (participant == nullptr) return;
-  participant->delete_contained_entities();
-  dds::DomainParticipantFactory::get_instance()->delete_participant(participant);
+  delete_participant(participant);
 }
 
 }  // namespace

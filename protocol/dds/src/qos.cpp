@@ -5,8 +5,13 @@
 #include <fastdds/rtps/transport/TCPv4TransportDescriptor.h>
 #include <fastrtps/utils/IPLocator.h>
 #include <netdb.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
 #include <arpa/inet.h>
+#include <algorithm>
 #include <filesystem>
+#include <map>
 #include <mutex>
 
 #include "embedded_profiles.h"
@@ -118,6 +123,46 @@ void use_tcp(dds::DomainParticipantQos& qos, const TransportOptions& o, const st
   qos.transport().use_builtin_transports = false;
 }
 
+// Whether a UDP port on 127.0.0.1 can be bound now (nobody on this host listens on it).
+bool udp_port_free(int port) {
+  const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+  if (fd < 0) return false;
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(static_cast<std::uint16_t>(port));
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  const bool ok = ::bind(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a) == 0;
+  ::close(fd);
+  return ok;
+}
+
+// Participant ids, chosen here instead of by Fast DDS. Fast DDS 2.9.1 numbers a process's
+// participants from a counter that never goes down, so a long-lived process (a standby that takes
+// over, a test binary) would give its later participants ids beyond the range discovery tries on
+// loopback (kLoopbackPeerRange), and two such participants never discover each other. Every
+// participant made here gets the lowest id that no participant of this process holds (Fast DDS
+// refuses a second one, whatever its transports) and, over UDP, whose well-known unicast ports
+// (RTPS: 7400 + 250 * domain + 10 or 11 + 2 * id) are free on this host. Another process may take
+// the ports between this probe and Fast DDS's bind: Fast DDS then moves to other ports, as it
+// does for a busy port without the probe.
+std::mutex ids_mutex;
+// By id: the participant holding it, or null for an id a refused creation left behind (Fast DDS
+// 2.9.1 keeps the id of a participant it failed to create: a second attempt with it is refused).
+std::map<int, const dds::DomainParticipant*> ids_held;  // guarded by ids_mutex
+
+bool id_held(int id) { return ids_held.contains(id); }
+
+int choose_participant_id(int domain_id, bool udp) {
+  for (int id = 0; id < kLoopbackPeerRange; ++id) {
+    if (id_held(id)) continue;
+    const int base = 7400 + 250 * domain_id + 2 * id;
+    if (!udp || (udp_port_free(base + 10) && udp_port_free(base + 11))) return id;
+  }
+  int id = 0;  // every port of the range busy: Fast DDS moves to other ports
+  while (id_held(id)) ++id;
+  return id;
+}
+
 }  // namespace
 
 dds::DomainParticipant* create_participant(const TransportOptions& options, dds::DomainParticipantListener* listener) {
@@ -137,15 +182,31 @@ dds::DomainParticipant* create_participant(const TransportOptions& options, dds:
   qos.name(options.participant_name);
   if (options.security) add_security(qos, *options.security, where);
 
+  std::lock_guard<std::mutex> lock(ids_mutex);
+  const int id = choose_participant_id(options.domain_id, !tcp);
+  qos.wire_protocol().participant_id = id;
   dds::DomainParticipant* participant = factory->create_participant(
       static_cast<dds::DomainId_t>(options.domain_id), qos, listener,
       // Not data_on_readers: a participant listener with it would take every sample away from the
       // readers' own listeners. (Discovery and authentication callbacks are not masked.)
       dds::StatusMask::all() >> dds::StatusMask::data_on_readers());
+  ids_held[id] = participant;
   if (participant == nullptr)
     throw TransportError(where + (options.security ? security_refusal(*options.security)
                                                    : "Fast DDS refused (ports in use or transports misconfigured; see its log)"));
   return participant;
+}
+
+void delete_participant(dds::DomainParticipant* participant) {
+  // Under the lock, so that no participant is made with this id before Fast DDS let it go.
+  std::lock_guard<std::mutex> lock(ids_mutex);
+  participant->delete_contained_entities();
+  dds::DomainParticipantFactory::get_instance()->delete_participant(participant);
+  for (auto it = ids_held.begin(); it != ids_held.end(); ++it)
+    if (it->second == participant) {
+      ids_held.erase(it);
+      break;
+    }
 }
 
 dds::DataWriterQos writer_qos(dds::Publisher& publisher, const char* profile) {

@@ -33,6 +33,9 @@ inline constexpr TopicProfiles kStandbyRequestProfiles{"throng_standby_request_w
 inline constexpr TopicProfiles kStandbySyncProfiles{"throng_standby_sync_writer", "throng_standby_sync_reader"};
 inline constexpr TopicProfiles kPrimaryProfiles{"throng_primary_writer", "throng_primary_reader"};
 inline constexpr const char* kLoopbackParticipantProfile = "throng_loopback_participant";
+// maxInitialPeersRange of the throng_udp_loopback transport (throng_profiles.xml): the participant
+// ids whose well-known ports discovery tries.
+inline constexpr int kLoopbackPeerRange = 120;
 
 inline constexpr int kMaxDomainId = 232;  // RTPS port mapping limit with Fast DDS's default ports
 
@@ -43,6 +46,8 @@ inline constexpr int kMaxDomainId = 232;  // RTPS port mapping limit with Fast D
 // null) hears participant discovery.
 eprosima::fastdds::dds::DomainParticipant* create_participant(const TransportOptions& options,
                                                               eprosima::fastdds::dds::DomainParticipantListener* listener);
+// Deletes a participant made by create_participant, and everything in it; its id is free again.
+void delete_participant(eprosima::fastdds::dds::DomainParticipant* participant);
 
 eprosima::fastdds::dds::DataWriterQos writer_qos(eprosima::fastdds::dds::Publisher& publisher,
                                                  const char* profile);
