@@ -460,5 +460,32 @@ TEST(WorldCheckpoint, DiffNamesExactlyThePerturbedBodies) {
   EXPECT_THROW(diff_world_states(sa, Bytes(sb.begin(), sb.begin() + 40)), CheckpointError);
 }
 
+TEST(WorldCheckpoint, DiffKeepsTheBodiesThatWentFurthestApartWhenMoreDifferThanItReports) {
+  // A divergence spreads by rounding-sized amounts to many bodies; the cap must not hide the one
+  // that went wrong behind lower object ids.
+  scene::SceneDef def = small("crush");
+  def.settings.pair_list_skin_m = 0.0;
+  scene::BuiltScene a = scene::build_scene(def);
+  scene::BuiltScene b = scene::build_scene(def);
+  run(a, 5);
+  run(b, 5);
+  ASSERT_GE(b.body_ids.size(), 30u);
+  for (std::size_t i = 0; i < 20; ++i) b.world.set_position(b.body_ids[i], b.world.position(b.body_ids[i]) + Vec3{1e-9, 0.0, 0.0});
+  const ObjectId far = b.body_ids[25], weight = b.body_ids[28];
+  b.world.set_position(far, b.world.position(far) + Vec3{0.5, 0.0, 0.0});
+  b.world.set_param(weight, params::Param::weight_kg, 321.0);
+  Bytes sa, sb;
+  a.world.save_state(sa);
+  b.world.save_state(sb);
+  EXPECT_EQ(diff_world_states(sa, sb, 100).size(), 22u);
+  const std::vector<BodyDifference> d = diff_world_states(sa, sb, 3);
+  ASSERT_EQ(d.size(), 3u);
+  std::vector<std::uint32_t> ids;
+  for (const BodyDifference& x : d) ids.push_back(x.object_id);
+  EXPECT_TRUE(std::is_sorted(ids.begin(), ids.end()));
+  EXPECT_NE(std::find(ids.begin(), ids.end(), far.value), ids.end());
+  EXPECT_NE(std::find(ids.begin(), ids.end(), weight.value), ids.end());
+}
+
 }  // namespace
 }  // namespace throng

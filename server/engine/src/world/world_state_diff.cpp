@@ -2,6 +2,7 @@
 #include "throng/world/world_state_diff.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 
@@ -36,15 +37,32 @@ void add(std::string& what, const char* name, double a, double b) {
   what += buf;
 }
 
-std::string compare(const detail::WorldState& A, std::size_t i, const detail::WorldState& B, std::size_t j) {
-  std::string w;
+// A body's differences, and how far apart it went: the largest difference of its position,
+// velocities or push (infinite when a size or parameter differs, which is never a rounding
+// difference spreading through the crowd).
+struct Compared {
+  std::string what;
+  double size = 0.0;
+};
+
+void motion(Compared& c, const char* name, double a, double b) {
+  add(c.what, name, a, b);
+  const double d = std::fabs(a - b);
+  if (d > c.size || d != d) c.size = d != d ? HUGE_VAL : d;
+}
+
+Compared compare(const detail::WorldState& A, std::size_t i, const detail::WorldState& B, std::size_t j) {
+  Compared c;
+  std::string& w = c.what;
   const detail::BodyStore& a = A.bodies;
   const detail::BodyStore& b = B.bodies;
-  add(w, "x", a.x[i], b.x[j]); add(w, "y", a.y[i], b.y[j]); add(w, "z", a.z[i], b.z[j]);
-  add(w, "desired_vx", a.vx[i], b.vx[j]); add(w, "desired_vy", a.vy[i], b.vy[j]); add(w, "desired_vz", a.vz[i], b.vz[j]);
-  add(w, "vx", a.ax[i], b.ax[j]); add(w, "vy", a.ay[i], b.ay[j]); add(w, "vz", a.az[i], b.az[j]);
-  add(w, "push_x", a.push_x[i], b.push_x[j]); add(w, "push_y", a.push_y[i], b.push_y[j]);
+  motion(c, "x", a.x[i], b.x[j]); motion(c, "y", a.y[i], b.y[j]); motion(c, "z", a.z[i], b.z[j]);
+  motion(c, "desired_vx", a.vx[i], b.vx[j]); motion(c, "desired_vy", a.vy[i], b.vy[j]); motion(c, "desired_vz", a.vz[i], b.vz[j]);
+  motion(c, "vx", a.ax[i], b.ax[j]); motion(c, "vy", a.ay[i], b.ay[j]); motion(c, "vz", a.az[i], b.az[j]);
+  motion(c, "push_x", a.push_x[i], b.push_x[j]); motion(c, "push_y", a.push_y[i], b.push_y[j]);
+  const std::size_t before_size = w.size();
   add(w, "radius", a.r[i], b.r[j]); add(w, "half_height", a.hh[i], b.hh[j]);
+  if (w.size() != before_size) c.size = HUGE_VAL;
   add(w, "grounded", a.grounded[i], b.grounded[j]);
   add(w, "resistance", a.resistance[i], b.resistance[j]);
   add(w, "morale_level", a.morale_level[i], b.morale_level[j]);
@@ -67,12 +85,14 @@ std::string compare(const detail::WorldState& A, std::size_t i, const detail::Wo
   }
   const params::ObjectParams& pa = A.body_params[i];
   const params::ObjectParams& pb = B.body_params[j];
+  const std::size_t before_params = w.size();
   for (std::size_t k = 0; k < params::kParamCount; ++k) {
     const auto p = static_cast<params::Param>(k);
     const std::string name = "params." + std::string(params::param_name(p));
     add(w, name.c_str(), pa.get(p), pb.get(p));
   }
-  return w;
+  if (w.size() != before_params) c.size = HUGE_VAL;
+  return c;
 }
 
 }  // namespace
@@ -81,24 +101,42 @@ std::vector<BodyDifference> diff_world_states(std::span<const std::uint8_t> a_by
                                               std::size_t max) {
   const detail::WorldState a = decode_exact(a_bytes);
   const detail::WorldState b = decode_exact(b_bytes);
-  std::vector<BodyDifference> out;
+  struct Found {
+    BodyDifference d;
+    double size;
+  };
+  std::vector<Found> found;
   for (std::size_t i = 0; i < a.bodies.size(); ++i) {
     const ObjectId id = a.bodies.id[i];
     const std::int64_t j = dense_of(b, id);
-    std::string what = j < 0 ? "only in the first checkpoint" : compare(a, i, b, static_cast<std::size_t>(j));
-    if (!what.empty()) out.push_back({id.value, std::move(what)});
+    if (j < 0) {
+      found.push_back({{id.value, "only in the first checkpoint"}, HUGE_VAL});
+      continue;
+    }
+    Compared c = compare(a, i, b, static_cast<std::size_t>(j));
+    if (!c.what.empty()) found.push_back({{id.value, std::move(c.what)}, c.size});
   }
   for (std::size_t j = 0; j < b.bodies.size(); ++j) {
-    if (dense_of(a, b.bodies.id[j]) < 0) out.push_back({b.bodies.id[j].value, "only in the second checkpoint"});
+    if (dense_of(a, b.bodies.id[j]) < 0) found.push_back({{b.bodies.id[j].value, "only in the second checkpoint"}, HUGE_VAL});
   }
   // The pair list's counters belong to no body: reported under object id 0 (no object has it).
   std::string list_what;
   add(list_what, "pair_list.kept_ticks", a.pair_list_kept_ticks, b.pair_list_kept_ticks);
   add(list_what, "pair_list.cooldown", a.pair_list_cooldown, b.pair_list_cooldown);
   add(list_what, "pair_list.backoff", a.pair_list_backoff, b.pair_list_backoff);
-  if (!list_what.empty()) out.push_back({0, "world: " + list_what});
-  std::sort(out.begin(), out.end(), [](const BodyDifference& x, const BodyDifference& y) { return x.object_id < y.object_id; });
-  if (out.size() > max) out.resize(max);
+  if (!list_what.empty()) found.push_back({{0, "world: " + list_what}, HUGE_VAL});
+  // A divergence spreads: one wrong body nudges its neighbours by rounding-sized amounts within a
+  // tick. When more differ than are reported, the ones that went furthest apart are the cause.
+  if (found.size() > max) {
+    std::stable_sort(found.begin(), found.end(), [](const Found& x, const Found& y) {
+      return x.size != y.size ? x.size > y.size : x.d.object_id < y.d.object_id;
+    });
+    found.resize(max);
+  }
+  std::sort(found.begin(), found.end(), [](const Found& x, const Found& y) { return x.d.object_id < y.d.object_id; });
+  std::vector<BodyDifference> out;
+  out.reserve(found.size());
+  for (Found& f : found) out.push_back(std::move(f.d));
   return out;
 }
 

@@ -16,6 +16,9 @@ struct BodyDifference {
 // Bodies whose saved state differs (present in one only, position, velocities, push, size,
 // grounded, coefficients, warm-start entries, any parameter, where a kept pair list was searched),
 // ascending object id, at most `max`; differences of the world's own state come first, as id 0.
+// When more than `max` differ, those kept are the world's own state, bodies present in one only
+// or with a different size or parameter, then those whose position, velocities or push went
+// furthest apart.
 // Each argument is exactly one world section. Throws CheckpointError on bad bytes.
 std::vector<BodyDifference> diff_world_states(std::span<const std::uint8_t> a, std::span<const std::uint8_t> b,
                                               std::size_t max = 20);

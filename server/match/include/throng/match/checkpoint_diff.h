@@ -15,9 +15,9 @@ namespace throng::match {
 using BodyDifference = throng::BodyDifference;
 
 // Objects whose state differs between two checkpoints of the same match (at most `max`, in
-// ascending object id), for `verify` to say which objects diverged. Compares the world state of
-// every body (pose, velocities, push, size, coefficients, warm start, every parameter). Throws
-// CheckpointError on bad bytes.
+// ascending object id; the furthest apart when more differ), for `verify` to say which objects
+// diverged. Compares the world state of every body (pose, velocities, push, size, coefficients,
+// warm start, every parameter). Throws CheckpointError on bad bytes.
 std::vector<BodyDifference> diff_checkpoints(std::span<const std::uint8_t> a, std::span<const std::uint8_t> b,
                                              std::size_t max = 20);
 
