@@ -47,7 +47,7 @@ int run_verify(const VerifyOptions& o) {
   auto print_objects = [&] {
     if (!v.differences.empty()) {
       fmt::print("Objects whose state differs at tick {} (the logged keyframe vs the re-simulation from the keyframe of tick {}){}:\n",
-                 v.diff_tick, v.diff_from_tick, v.differences.size() >= 20 ? ", the first 20" : "");
+                 v.diff_tick, v.diff_from_tick, v.differences.size() >= 20 ? ", the 20 that differ most" : "");
       for (const auto& d : v.differences) fmt::print("  object {}: {}\n", d.object_id, d.what);
     }
     if (!v.diff_note.empty()) fmt::print("Objects: {}\n", v.diff_note);

@@ -392,7 +392,7 @@ void StandbyServer::Impl::report_divergence() {
   std::string objects;
   for (const auto& o : d.differences) objects += fmt::format("\n  object {}: {}", o.object_id, o.what);
   spdlog::error("standby: the divergence from tick {}: objects whose state differed at tick {} (the primary's value, then this standby's){}:{}",
-                d.first_tick, d.compared_at, d.differences.size() >= 20 ? " (the first 20)" : "", objects);
+                d.first_tick, d.compared_at, d.differences.size() >= 20 ? " (the 20 that differ most)" : "", objects);
 }
 
 // The primary's stream stopped for longer than the takeover limit while this standby held every
