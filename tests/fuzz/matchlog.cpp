@@ -24,9 +24,15 @@ const std::string& log_path() {
   return p;
 }
 
+void remove_log() { std::remove(log_path().c_str()); }
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  // Registered once the path exists, so it runs before the path's destructor: a fuzz run leaves
+  // no file behind in the temporary directory.
+  static const bool cleanup_registered = (log_path(), std::atexit(remove_log) == 0);
+  (void)cleanup_registered;
   {
     std::FILE* f = std::fopen(log_path().c_str(), "wb");
     if (!f) std::abort();

@@ -197,6 +197,39 @@ TEST(Standby, ThatDivergesOnPurposeAsksAgainAndResynchronises) {
   EXPECT_TRUE(walker_named) << d.dump(2);
 }
 
+// --admin-port on a standby: /healthz at once, /readyz "not ready" until it follows the primary,
+// then ready, and /metrics with the standby's own figures.
+TEST(Standby, ServesHealthReadinessAndItsMetricsWhileItFollows) {
+  const auto o = small_server_options(231);
+  auto so = standby_options(o);
+  so.admin_port = 0;
+  StandbyThread standby(so);
+  for (auto deadline = std::chrono::steady_clock::now() + 10s; standby.standby().admin_port() == 0;) {
+    ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "the standby never opened its admin endpoint";
+    std::this_thread::sleep_for(10ms);
+  }
+  const std::uint16_t port = standby.standby().admin_port();
+  EXPECT_NE(http_get(port, "/healthz").find("200 OK"), std::string::npos);
+  const std::string waiting = http_get(port, "/readyz");
+  EXPECT_NE(waiting.find("503"), std::string::npos) << "ready without a primary: " << waiting;
+  EXPECT_NE(http_get(port, "/metrics").find("\nthrong_standby_following 0\n"), std::string::npos);
+
+  ServerThread primary(o);
+  Walker walker(231);
+  ASSERT_TRUE(walker.accepted());
+  ASSERT_TRUE(standby.wait_until([](const server::StandbyStatus& s) { return s.following && s.follower.applied >= 30; }, 30s));
+  std::this_thread::sleep_for(200ms);  // the follow loop sets readiness and metrics after each batch
+  const std::string ready = http_get(port, "/readyz");
+  EXPECT_NE(ready.find("200 OK"), std::string::npos) << ready;
+  const std::string metrics = http_get(port, "/metrics");
+  EXPECT_NE(metrics.find("\nthrong_standby_following 1\n"), std::string::npos) << metrics;
+  EXPECT_NE(metrics.find("\nthrong_standby_mismatches_total 0\n"), std::string::npos) << metrics;
+  const auto applied_at = metrics.find("\nthrong_standby_ticks_applied_total ");
+  ASSERT_NE(applied_at, std::string::npos) << metrics;
+  EXPECT_GE(std::stod(metrics.substr(applied_at + 36)), 30.0) << metrics;
+  expect_standby_ends_with_the_primary(primary, standby);
+}
+
 // One command per tick for a joined client, from a thread of its own, until destroyed (also when
 // an assertion ends the test early).
 class CommandStream {
@@ -259,6 +292,7 @@ TEST(Standby, TakesOverWhenThePrimaryIsKilledAndItsClientPlaysOnWithoutRejoining
   auto so = standby_options(small_server_options(209));
   so.takeover_after_ticks = 6;  // the default is 3; 6 keeps a loaded test machine's hiccups from starting it early
   so.log_file = (dir / "standby.tlog").string();
+  so.admin_port = 0;  // the system's choice, which the new primary then keeps
   StandbyThread standby(so);
   TestClient client(209);
   const auto reply = client.join(9, "stays");
@@ -271,11 +305,19 @@ TEST(Standby, TakesOverWhenThePrimaryIsKilledAndItsClientPlaysOnWithoutRejoining
   ASSERT_TRUE(client.wait_until([&] { return last_applied(client.snapshots(), reply->client_id) >= 20; }));
 
   const std::uint32_t applied_before = client.with_lock([&] { return last_applied(client.snapshots(), reply->client_id); });
+  const std::uint16_t admin_port = standby.standby().admin_port();
+  ASSERT_NE(admin_port, 0);
+  EXPECT_NE(http_get(admin_port, "/metrics").find("\nthrong_standby_following 1\n"), std::string::npos);
   primary.kill_now();
   ASSERT_TRUE(standby.wait_until([](const server::StandbyStatus& s) { return s.took_over; }, 10s))
       << standby.standby().summary().dump();
   // Commands apply again on the new primary, under the same client id and sequence.
   EXPECT_TRUE(client.wait_until([&] { return last_applied(client.snapshots(), reply->client_id) > applied_before + 15; }, 10s));
+  // The new primary's endpoint, on the standby's port.
+  const std::string hosting = http_get(admin_port, "/metrics");
+  EXPECT_NE(hosting.find("\nthrong_ticks_total "), std::string::npos) << hosting;
+  EXPECT_EQ(hosting.find("throng_standby_"), std::string::npos) << hosting;
+  EXPECT_NE(http_get(admin_port, "/readyz").find("200 OK"), std::string::npos);
   commands.stop();
 
   const std::uint64_t gap = client.with_lock([&] { return longest_snapshot_gap(client.snapshots(), reply->client_id); });
@@ -398,8 +440,21 @@ TEST(Standby, TwoStandbysOfAKilledPrimaryLeaveExactlyOneHostingTheMatch) {
 TEST(Standby, WithoutAPrimaryEndsAtItsDurationSayingItNeverHadTheMatch) {
   auto o = standby_options(small_server_options(207));
   o.duration_s = 1.0;
+  // Its admin port is taken (as by a primary on the same host with the same default port): it
+  // runs without an endpoint instead of failing.
+  const int taken = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ASSERT_EQ(::bind(taken, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
+  ASSERT_EQ(::listen(taken, 1), 0);
+  socklen_t len = sizeof a;
+  ASSERT_EQ(::getsockname(taken, reinterpret_cast<sockaddr*>(&a), &len), 0);
+  o.admin_port = ntohs(a.sin_port);
   server::StandbyServer standby(o);
   EXPECT_EQ(standby.run(false), 4);
+  EXPECT_EQ(standby.admin_port(), 0);
+  ::close(taken);
   const nlohmann::json s = standby.summary();
   EXPECT_FALSE(s["synced"].get<bool>());
   EXPECT_EQ(s["end_reason"], "duration");

@@ -12,6 +12,9 @@ namespace throng::admin {
 
 void Counter::inc(std::uint64_t n) noexcept { metric_->Increment(static_cast<double>(n)); }
 std::uint64_t Counter::value() const noexcept { return static_cast<std::uint64_t>(metric_->Value()); }
+void Counter::raise_to(std::uint64_t total) noexcept {
+  if (const std::uint64_t now = value(); total > now) inc(total - now);
+}
 
 void Gauge::set(double v) noexcept { metric_->Set(v); }
 void Gauge::add(double d) noexcept { metric_->Increment(d); }

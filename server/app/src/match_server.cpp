@@ -41,10 +41,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 // Brings a Prometheus counter up to a running total kept elsewhere (counters only go up).
-void raise_to(admin::Counter& counter, std::uint64_t total) {
-  if (total > counter.value()) counter.inc(total - counter.value());
-}
-
 double seconds_between(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
 }
@@ -191,7 +187,14 @@ struct MatchServer::Impl {
       ao.degraded = [this] {
         return log_failed.load(std::memory_order_acquire) ? "match log stopped: " + log_failure : std::string();
       };
-      admin = std::make_unique<admin::AdminServer>(registry, [this] { return ready.load(); }, ao);
+      try {
+        admin = std::make_unique<admin::AdminServer>(registry, [this] { return ready.load(); }, ao);
+      } catch (const std::exception& e) {
+        // A takeover must not lose the match for its admin endpoint (the port the standby had
+        // may have been taken in between): it hosts without one.
+        if (!takeover) throw;
+        spdlog::error("took over without an admin endpoint: {}", e.what());
+      }
     }
     if (takeover) {
       log = std::move(takeover->log);  // the standby's log goes on (null: it had none)
@@ -475,7 +478,7 @@ void MatchServer::Impl::run_tick(Clock::time_point woke) {
       spdlog::warn("join/leave requests for clients another participant owns ignored (foreign_participant): {} so far",
                    joins_foreign_total);
   }
-  raise_to(metrics.param_not_operator, param_not_operator_total.load());
+  metrics.param_not_operator.raise_to(param_not_operator_total.load());
   metrics.leaves.inc(report.leaves);
   metrics.timeouts.inc(report.timeouts);
   metrics.commands_accepted.inc(report.commands_accepted);
@@ -489,17 +492,17 @@ void MatchServer::Impl::run_tick(Clock::time_point woke) {
   metrics.state_hash_low32.set(static_cast<double>(report.state_hash & 0xFFFF'FFFFu));
   // Totals kept elsewhere (match, transport, schedule) are mirrored into the counters.
   const auto& by_reason = match.rejected_by_reason();
-  for (std::size_t i = 0; i < by_reason.size(); ++i) raise_to(*metrics.commands_rejected[i], by_reason[i]);
-  raise_to(metrics.input_queue_dropped, match.inputs().dropped());
+  for (std::size_t i = 0; i < by_reason.size(); ++i) metrics.commands_rejected[i]->raise_to(by_reason[i]);
+  metrics.input_queue_dropped.raise_to(match.inputs().dropped());
   const auto c = transport->counters();
-  raise_to(metrics.snapshot_samples, c.snapshot_samples);
-  raise_to(metrics.snapshot_bytes, c.snapshot_bytes);
-  raise_to(metrics.other_samples, c.other_samples);
-  raise_to(metrics.other_bytes, c.other_bytes);
-  raise_to(metrics.contacts_samples, c.contacts_samples);
-  raise_to(metrics.contacts_bytes, c.contacts_bytes);
-  raise_to(metrics.participants_refused, c.participants_refused);
-  raise_to(metrics.skipped_ticks, schedule->skipped());
+  metrics.snapshot_samples.raise_to(c.snapshot_samples);
+  metrics.snapshot_bytes.raise_to(c.snapshot_bytes);
+  metrics.other_samples.raise_to(c.other_samples);
+  metrics.other_bytes.raise_to(c.other_bytes);
+  metrics.contacts_samples.raise_to(c.contacts_samples);
+  metrics.contacts_bytes.raise_to(c.contacts_bytes);
+  metrics.participants_refused.raise_to(c.participants_refused);
+  metrics.skipped_ticks.raise_to(schedule->skipped());
 
   if (stopping) finished = true;
   if (report.tick % options.match.tick_hz == 0 || finished) {

@@ -21,6 +21,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "throng/admin/admin_server.h"
 #include "throng/matchlog/format.h"
 #include "throng/matchlog/log_header.h"
 #include "throng/matchlog/writer.h"
@@ -28,6 +29,7 @@
 #include "throng/protocol/security.h"
 #include "throng/server/log_setup.h"
 #include "throng/server/match_server.h"
+#include "throng/server/standby_metrics.h"
 #include "throng/world/world.h"
 
 namespace throng::server {
@@ -107,6 +109,15 @@ struct StandbyServer::Impl {
   mutable std::mutex status_mutex;
   StandbyStatus st;  // guarded by status_mutex (written by the loop, read by status())
 
+  // --admin-port while it follows: /healthz, /readyz (ready while it follows the primary with
+  // every tick's hash), /metrics (throng_standby_*). Closed at a takeover, so that the new primary
+  // serves its own on the same port. Declared after what its thread reads.
+  admin::MetricsRegistry registry;
+  StandbyMetrics metrics{registry};
+  std::atomic<bool> ready{false};
+  std::atomic<std::uint16_t> admin_port{0};
+  std::unique_ptr<admin::AdminServer> admin;
+
   // After a takeover: the match server this standby became (guarded by primary_mutex).
   std::mutex primary_mutex;
   std::unique_ptr<MatchServer> primary;
@@ -116,6 +127,7 @@ struct StandbyServer::Impl {
   ~Impl() {
     transport.reset();
     server_transport.reset();
+    admin.reset();
   }
 
   explicit Impl(const ServerOptions& o)
@@ -154,6 +166,7 @@ StandbyServer::StandbyServer(const ServerOptions& options) : impl_(std::make_uni
 StandbyServer::~StandbyServer() = default;
 
 void StandbyServer::request_stop() { impl_->stop_all("stopped"); }
+std::uint16_t StandbyServer::admin_port() const { return impl_->admin_port.load(); }
 
 // First the flag (a takeover that starts now checks it once its server exists), then the server.
 void StandbyServer::Impl::stop_all(const char* reason) {
@@ -430,6 +443,8 @@ bool StandbyServer::Impl::follow_loop(Clock::time_point end_at) {
     if (sync) apply_sync(std::move(*sync));
     sync.reset();
     publish_status();
+    metrics.update(st);  // this thread is st's only writer
+    ready.store(st.synced && st.following);
     if (primary_gone(Clock::now())) return true;
     check_silence(Clock::now());
   }
@@ -457,6 +472,13 @@ int StandbyServer::Impl::host_the_match() {
                silent_ms, options.takeover_after_ticks, follower->tick());
   ServerOptions o = options;
   if (o.duration_s > 0) o.duration_s = std::max(0.1, o.duration_s - wall_seconds.load());  // --duration counts from the start
+  if (admin) {
+    // The new primary serves its own endpoint on the same port (an ephemeral one: the one the
+    // standby had, if the system still has it free).
+    o.admin_port = admin->port();
+    ready.store(false);
+    admin.reset();
+  }
   {
     std::lock_guard<std::mutex> lock(primary_mutex);
     primary = std::make_unique<MatchServer>(o, std::move(t));
@@ -536,8 +558,23 @@ int StandbyServer::run(bool handle_signals) {
                m.options.loopback_only ? "127.0.0.1 only" : "default network",
                m.options.security_dir.empty() ? "" : ", DDS Security with the server identity");
 
-  if (m.options.admin_port >= 0)
-    spdlog::info("standby: it serves no admin HTTP while it follows (--admin-port applies after a takeover)");
+  if (m.options.admin_port >= 0) {
+    admin::AdminServerOptions ao;
+    ao.bind_address = m.options.admin_bind;
+    ao.port = static_cast<std::uint16_t>(m.options.admin_port);
+    try {
+      m.admin = std::make_unique<admin::AdminServer>(m.registry, [&m] { return m.ready.load(); }, ao);
+      m.admin_port.store(m.admin->port());
+      spdlog::info("standby: admin listening on {}:{} (/healthz; /readyz ready while it follows; /metrics throng_standby_*)",
+                   m.options.admin_bind, m.admin->port());
+    } catch (const std::exception& e) {
+      // Typically the primary's own endpoint on the same host (both default to one port): the
+      // standby follows without one, and a takeover opens the new primary's on that port, which
+      // the dead primary no longer holds.
+      spdlog::warn("standby: {}; it follows without an admin endpoint (another port: --admin-port N, or 0 for any free one)",
+                   e.what());
+    }
+  }
   spdlog::info("standby: {}", m.options.takeover_after_ticks > 0
                                   ? fmt::format("takes over when the primary sends nothing for {} ticks",
                                                 m.options.takeover_after_ticks)

@@ -30,6 +30,9 @@ class Counter {
   Counter& operator=(const Counter&) = delete;
 
   void inc(std::uint64_t n = 1) noexcept;
+  // Raises the count to a total kept elsewhere (a lower total changes nothing): for counters that
+  // mirror another component's own count. Not atomic against a concurrent inc on this counter.
+  void raise_to(std::uint64_t total) noexcept;
   std::uint64_t value() const noexcept;
 
  private:
