@@ -46,7 +46,7 @@ int main(int argc, char** argv) {
   app.option_defaults()->always_capture_default();
   app.add_option("--clients", o.clients, "number of bots")->check(CLI::Range(1u, 100000u));
   app.add_option("--duration", o.duration_s, "seconds to run after connecting")->check(CLI::PositiveNumber);
-  app.add_option("--domain", o.domain, "DDS domain id")->check(CLI::Range(0, 232));
+  app.add_option("--domain", o.domain, "DDS domain id")->check(CLI::Range(0, 231));
   app.add_option("--behavior", o.behavior,
                  "wander|charge|waypoints|idle|nan|flood|hijack|stale|mix, or a comma-separated list "
                  "(bot i gets entry i mod n)")

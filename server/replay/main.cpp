@@ -110,7 +110,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.1, 16.0));
   play_cmd->add_option("--from", play.from, "first tick to publish (re-simulates up to it first; ticks start at 1)")
       ->check(tick_number);
-  play_cmd->add_option("--domain", play.domain, "DDS domain id (like throng-server)")->check(CLI::Range(0, 232));
+  play_cmd->add_option("--domain", play.domain, "DDS domain id (like throng-server)")->check(CLI::Range(0, 231));
   play_cmd->add_flag("--network", play.network, "Fast DDS's default transports and discovery (default: 127.0.0.1 only)");
   play_cmd->add_option("--listen", play.listen, "tcp://ADDR:PORT: DDS over TCP only (viewers and bots use --server)")
       ->check(throng::protocol::check_tcp_endpoint);

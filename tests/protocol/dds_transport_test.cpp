@@ -267,7 +267,7 @@ TEST(DdsTransport, ErrorsNameWhatFailed) {
     ServerTransport bad(loopback(300, "server"));
     FAIL() << "domain 300 accepted";
   } catch (const TransportError& e) {
-    EXPECT_EQ(std::string(e.what()), "cannot create participant 'server' on domain 300: domain id must be 0..232");
+    EXPECT_EQ(std::string(e.what()), "cannot create participant 'server' on domain 300: domain id must be 0..231");
   }
   EXPECT_THROW(ClientTransport(loopback(-1, "client")), TransportError);
 

@@ -161,6 +161,7 @@ TEST(ServerProcess, BadCommandLinesAreRejectedWithAClearMessage) {
   const std::vector<Case> cases = {
       {{"--tick-hz", "0"}, "--tick-hz"},
       {{"--domain", "400"}, "--domain"},
+      {{"--domain", "232"}, "--domain"},  // Fast DDS would end the process computing its ports
       {{"--duration", "nan"}, "--duration"},
       {{"--client-timeout", "inf"}, "--client-timeout"},
       {{"--end-when-empty", "nan"}, "--end-when-empty"},

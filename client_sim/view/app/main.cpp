@@ -53,7 +53,7 @@ int main(int argc, char** argv) {
   // CLI11 would wrap "-3" into a huge unsigned tick: refuse negatives as a usage error.
   app.add_option("--from", lo.from, "--log: start at this tick")->check(CLI::NonNegativeNumber)->needs(log);
   app.add_flag("--paused", lo.paused, "--log: start paused")->needs(log);
-  auto* domain = app.add_option("--domain", o.domain, "DDS domain id of the server")->check(CLI::Range(0, 232));
+  auto* domain = app.add_option("--domain", o.domain, "DDS domain id of the server")->check(CLI::Range(0, 231));
   app.add_option("--port", o.port, "HTTP/WebSocket port (0 = any free port)")->check(CLI::Range(0, 65535));
   app.add_option("--bind", o.bind, "address to serve the page on (0.0.0.0 = every interface)");
   auto* name = app.add_option("--name", o.name, "client name the server logs (at most 64 bytes)")

@@ -10,6 +10,8 @@
 #include <unistd.h>
 #include <arpa/inet.h>
 #include <algorithm>
+#include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <mutex>
@@ -140,26 +142,62 @@ bool udp_port_free(int port) {
 // participants from a counter that never goes down, so a long-lived process (a standby that takes
 // over, a test binary) would give its later participants ids beyond the range discovery tries on
 // loopback (kLoopbackPeerRange), and two such participants never discover each other. Every
-// participant made here gets the lowest id that no participant of this process holds (Fast DDS
-// refuses a second one, whatever its transports) and, over UDP, whose well-known unicast ports
-// (RTPS: 7400 + 250 * domain + 10 or 11 + 2 * id) are free on this host. Another process may take
-// the ports between this probe and Fast DDS's bind: Fast DDS then moves to other ports, as it
-// does for a busy port without the probe.
-std::mutex ids_mutex;
-// By id: the participant holding it, or null for an id a refused creation left behind (Fast DDS
-// 2.9.1 keeps the id of a participant it failed to create: a second attempt with it is refused).
-std::map<int, const dds::DomainParticipant*> ids_held;  // guarded by ids_mutex
+// participant made here gets an id that no participant of this process holds (Fast DDS refuses a
+// second one, whatever its transports) and, over UDP, whose well-known unicast ports (RTPS: 7400 +
+// 250 * domain + 10 or 11 + 2 * id) are free on this host. Another process may take the ports
+// between this probe and Fast DDS's bind: Fast DDS then moves to other ports, as it does for a
+// busy port without the probe.
+//
+// An id given back is not handed out again for a while: a participant's GUID prefix is the
+// process's plus its id, so the next participant with it would also have the same GUID (and, its
+// entities made in the same order, the same writer GUIDs). A peer that has not yet processed the
+// old one's departure would take the new one's first samples for repeats of the old one's.
+// Lowest id first otherwise: over TCP, clients look for a server's participant among ids 0..3.
+constexpr auto kIdCooldown = std::chrono::seconds(30);  // longer than a participant's 20 s lease
 
-bool id_held(int id) { return ids_held.contains(id); }
+struct ParticipantIds {
+  std::mutex mutex;
+  // By id: the participant holding it; null while it is being created or deleted, and for good
+  // for an id a refused creation left behind (Fast DDS 2.9.1 keeps it: a second attempt with it
+  // is refused).
+  std::map<int, const dds::DomainParticipant*> held;
+  std::map<int, std::chrono::steady_clock::time_point> released;  // when each id was last given back
+  bool warned_out_of_range = false;
+};
 
-int choose_participant_id(int domain_id, bool udp) {
+ParticipantIds& participant_ids() {
+  static ParticipantIds ids;
+  return ids;
+}
+
+// Whether both well-known unicast ports of the id are free on this host (false past port 65535).
+bool ports_free(int domain_id, int id) {
+  const int base = 7400 + 250 * domain_id + 2 * id;
+  return base + 11 <= 65535 && udp_port_free(base + 10) && udp_port_free(base + 11);
+}
+
+// Called under ids.mutex.
+int choose_participant_id(ParticipantIds& ids, int domain_id, bool udp) {
+  const auto now = std::chrono::steady_clock::now();
+  int cooling = -1;  // the usable id given back longest ago
   for (int id = 0; id < kLoopbackPeerRange; ++id) {
-    if (id_held(id)) continue;
-    const int base = 7400 + 250 * domain_id + 2 * id;
-    if (!udp || (udp_port_free(base + 10) && udp_port_free(base + 11))) return id;
+    if (ids.held.contains(id) || (udp && !ports_free(domain_id, id))) continue;
+    const auto r = ids.released.find(id);
+    if (r == ids.released.end() || now - r->second >= kIdCooldown) return id;
+    if (cooling < 0 || r->second < ids.released[cooling]) cooling = id;
   }
-  int id = 0;  // every port of the range busy: Fast DDS moves to other ports
-  while (id_held(id)) ++id;
+  if (cooling >= 0) return cooling;
+  // Every id of the range held or its ports busy: Fast DDS moves this one to other ports, and
+  // over UDP only peers below the range can discover it.
+  if (!ids.warned_out_of_range) {
+    ids.warned_out_of_range = true;
+    std::fprintf(stderr,
+                 "throng protocol: every participant id 0..%d on DDS domain %d is taken on this host; "
+                 "participants with higher ids may not discover each other\n",
+                 kLoopbackPeerRange - 1, domain_id);
+  }
+  int id = kLoopbackPeerRange;
+  while (ids.held.contains(id)) ++id;
   return id;
 }
 
@@ -182,31 +220,48 @@ dds::DomainParticipant* create_participant(const TransportOptions& options, dds:
   qos.name(options.participant_name);
   if (options.security) add_security(qos, *options.security, where);
 
-  std::lock_guard<std::mutex> lock(ids_mutex);
-  const int id = choose_participant_id(options.domain_id, !tcp);
+  // The id is reserved under the lock and the participant made without it: Fast DDS's own threads
+  // never wait for another participant's creation.
+  ParticipantIds& ids = participant_ids();
+  int id = 0;
+  {
+    std::lock_guard<std::mutex> lock(ids.mutex);
+    id = choose_participant_id(ids, options.domain_id, !tcp);
+    ids.held[id] = nullptr;
+  }
   qos.wire_protocol().participant_id = id;
   dds::DomainParticipant* participant = factory->create_participant(
       static_cast<dds::DomainId_t>(options.domain_id), qos, listener,
       // Not data_on_readers: a participant listener with it would take every sample away from the
       // readers' own listeners. (Discovery and authentication callbacks are not masked.)
       dds::StatusMask::all() >> dds::StatusMask::data_on_readers());
-  ids_held[id] = participant;
-  if (participant == nullptr)
+  if (participant == nullptr)  // the id stays reserved for good (see ParticipantIds::held)
     throw TransportError(where + (options.security ? security_refusal(*options.security)
                                                    : "Fast DDS refused (ports in use or transports misconfigured; see its log)"));
+  std::lock_guard<std::mutex> lock(ids.mutex);
+  ids.held[id] = participant;
   return participant;
 }
 
 void delete_participant(dds::DomainParticipant* participant) {
-  // Under the lock, so that no participant is made with this id before Fast DDS let it go.
-  std::lock_guard<std::mutex> lock(ids_mutex);
-  participant->delete_contained_entities();
-  dds::DomainParticipantFactory::get_instance()->delete_participant(participant);
-  for (auto it = ids_held.begin(); it != ids_held.end(); ++it)
-    if (it->second == participant) {
-      ids_held.erase(it);
-      break;
-    }
+  ParticipantIds& ids = participant_ids();
+  int id = -1;
+  {
+    std::lock_guard<std::mutex> lock(ids.mutex);
+    for (auto& [held_id, held] : ids.held)
+      if (held == participant) {
+        id = held_id;
+        held = nullptr;  // reserved until Fast DDS has let it go
+        break;
+      }
+  }
+  const bool deleted = participant->delete_contained_entities() == ReturnCode_t::RETCODE_OK &&
+                       dds::DomainParticipantFactory::get_instance()->delete_participant(participant) ==
+                           ReturnCode_t::RETCODE_OK;
+  if (id < 0 || !deleted) return;  // a participant Fast DDS kept keeps its id
+  std::lock_guard<std::mutex> lock(ids.mutex);
+  ids.held.erase(id);
+  ids.released[id] = std::chrono::steady_clock::now();
 }
 
 dds::DataWriterQos writer_qos(dds::Publisher& publisher, const char* profile) {

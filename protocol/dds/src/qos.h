@@ -37,7 +37,9 @@ inline constexpr const char* kLoopbackParticipantProfile = "throng_loopback_part
 // ids whose well-known ports discovery tries.
 inline constexpr int kLoopbackPeerRange = 120;
 
-inline constexpr int kMaxDomainId = 232;  // RTPS port mapping limit with Fast DDS's default ports
+// With Fast DDS's default ports, the highest domain whose 120 participant ids (kLoopbackPeerRange)
+// all map to ports below 65536: on 232 Fast DDS ends the process computing the initial peers.
+inline constexpr int kMaxDomainId = 231;
 
 // Creates (and enables) a participant for the options. Throws TransportError naming the domain and
 // the reason: domain id out of range, profiles not loadable, participant creation failed.

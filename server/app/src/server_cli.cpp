@@ -34,7 +34,7 @@ ParseResult parse_server_options(const std::vector<std::string>& args) {
   app.add_option("--npcs", o.npcs, "scale the scene to this many bodies at the same density (0 = scene's own count)")
       ->check(CLI::Range(std::uint64_t{0}, std::uint64_t{1'000'000}));
   app.add_option("--tick-hz", m.tick_hz, "simulation and snapshot rate")->check(CLI::Range(1u, 240u));
-  app.add_option("--domain", o.domain, "DDS domain id")->check(CLI::Range(0, 232));
+  app.add_option("--domain", o.domain, "DDS domain id")->check(CLI::Range(0, 231));
   app.add_flag("!--network", o.loopback_only,
                "use Fast DDS's default transports and discovery (real network) instead of 127.0.0.1 only");
   app.add_option("--listen", o.listen,

@@ -42,7 +42,7 @@ TcpEndpoint parse_tcp_endpoint(const std::string& text);
 std::string check_tcp_endpoint(const std::string& text);
 
 struct TransportOptions {
-  int domain_id = 0;           // 0..232
+  int domain_id = 0;           // 0..231
   // true: the participant uses only 127.0.0.1 (UDPv4 whitelist + unicast discovery to 127.0.0.1,
   // plus shared memory) — what tests and the quick start use. false: Fast DDS's default
   // transports/discovery (a real network).

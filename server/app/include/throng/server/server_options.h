@@ -17,7 +17,7 @@ inline constexpr const char* kListenAgones = "agones";
 struct ServerOptions {
   std::string scene = "battle";    // built-in scene name or scene JSON file
   std::uint64_t npcs = 6000;       // scale the scene to this many bodies; 0 = the scene's own count
-  int domain = 0;                  // DDS domain id, 0..232
+  int domain = 0;                  // DDS domain id, 0..231
   bool loopback_only = true;       // DDS on 127.0.0.1 only (false: Fast DDS default transports)
   std::string listen;              // --listen tcp://ADDR:PORT or "agones": DDS over TCP only (clients --server)
   std::string public_address;      // --public-address IP: the address clients are told (NAT, LB)
