@@ -443,6 +443,7 @@ TEST(Standby, WithoutAPrimaryEndsAtItsDurationSayingItNeverHadTheMatch) {
   // Its admin port is taken (as by a primary on the same host with the same default port): it
   // runs without an endpoint instead of failing.
   const int taken = ::socket(AF_INET, SOCK_STREAM, 0);
+  const std::unique_ptr<const int, void (*)(const int*)> close_taken(&taken, [](const int* fd) { ::close(*fd); });
   sockaddr_in a{};
   a.sin_family = AF_INET;
   a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
@@ -454,7 +455,6 @@ TEST(Standby, WithoutAPrimaryEndsAtItsDurationSayingItNeverHadTheMatch) {
   server::StandbyServer standby(o);
   EXPECT_EQ(standby.run(false), 4);
   EXPECT_EQ(standby.admin_port(), 0);
-  ::close(taken);
   const nlohmann::json s = standby.summary();
   EXPECT_FALSE(s["synced"].get<bool>());
   EXPECT_EQ(s["end_reason"], "duration");

@@ -40,7 +40,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// Brings a Prometheus counter up to a running total kept elsewhere (counters only go up).
 double seconds_between(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
 }

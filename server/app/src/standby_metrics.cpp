@@ -15,14 +15,14 @@ StandbyMetrics::StandbyMetrics(admin::MetricsRegistry& r)
       gaps(r.counter("throng_standby_gaps_total", "Tick entries that arrived after a missing one.")),
       entries_refused(r.counter("throng_standby_entries_refused_total", "Malformed tick entries refused.")) {}
 
-void StandbyMetrics::update(const StandbyStatus& s) {
+void StandbyMetrics::update(const StandbyStatus& s, const StandbyTotals& earlier) {
   following.set(s.synced && s.following ? 1.0 : 0.0);
   tick.set(static_cast<double>(s.tick));
   primary_tick.set(static_cast<double>(s.primary_tick));
-  ticks_applied.raise_to(s.follower.applied);
-  mismatches.raise_to(s.follower.mismatches);
-  checkpoints.raise_to(s.follower.checkpoints);
-  gaps.raise_to(s.follower.gaps);
+  ticks_applied.raise_to(earlier.applied + s.follower.applied);
+  mismatches.raise_to(earlier.mismatches + s.follower.mismatches);
+  checkpoints.raise_to(earlier.checkpoints + s.follower.checkpoints);
+  gaps.raise_to(earlier.gaps + s.follower.gaps);
   entries_refused.raise_to(s.entries_refused);
 }
 

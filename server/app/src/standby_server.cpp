@@ -114,6 +114,7 @@ struct StandbyServer::Impl {
   // serves its own on the same port. Declared after what its thread reads.
   admin::MetricsRegistry registry;
   StandbyMetrics metrics{registry};
+  StandbyTotals earlier_followers;  // of the followers of matches the primary hosted before (the loop's own)
   std::atomic<bool> ready{false};
   std::atomic<std::uint16_t> admin_port{0};
   std::unique_ptr<admin::AdminServer> admin;
@@ -166,7 +167,13 @@ StandbyServer::StandbyServer(const ServerOptions& options) : impl_(std::make_uni
 StandbyServer::~StandbyServer() = default;
 
 void StandbyServer::request_stop() { impl_->stop_all("stopped"); }
-std::uint16_t StandbyServer::admin_port() const { return impl_->admin_port.load(); }
+std::uint16_t StandbyServer::admin_port() const {
+  if (impl_->took_over.load()) {
+    std::lock_guard<std::mutex> lock(impl_->primary_mutex);
+    if (impl_->primary) return impl_->primary->admin_port();
+  }
+  return impl_->admin_port.load();
+}
 
 // First the flag (a takeover that starts now checks it once its server exists), then the server.
 void StandbyServer::Impl::stop_all(const char* reason) {
@@ -228,6 +235,7 @@ void StandbyServer::Impl::apply_sync(protocol::StandbySync&& sync) {
     f.on_checkpoint(sync.checkpoint);  // throws with the follower unchanged
     const bool restored = f.stats().checkpoints > restored_before;  // else older than the match (ignored)
     if (fresh) {
+      if (follower) earlier_followers.add(follower->stats());
       follower = std::move(built);
       header = answer;
       stop_log("the primary now hosts another match");
@@ -443,7 +451,7 @@ bool StandbyServer::Impl::follow_loop(Clock::time_point end_at) {
     if (sync) apply_sync(std::move(*sync));
     sync.reset();
     publish_status();
-    metrics.update(st);  // this thread is st's only writer
+    metrics.update(st, earlier_followers);  // this thread is st's only writer
     ready.store(st.synced && st.following);
     if (primary_gone(Clock::now())) return true;
     check_silence(Clock::now());

@@ -46,9 +46,14 @@ struct Compared {
 };
 
 void motion(Compared& c, const char* name, double a, double b) {
+  if (std::memcmp(&a, &b, sizeof a) == 0) return;  // equal bits (NaN or inf alike): no difference
   add(c.what, name, a, b);
   const double d = std::fabs(a - b);
-  if (d > c.size || d != d) c.size = d != d ? HUGE_VAL : d;
+  if (d != d) {  // a NaN on either side
+    c.size = HUGE_VAL;
+  } else if (d > c.size) {
+    c.size = d;
+  }
 }
 
 Compared compare(const detail::WorldState& A, std::size_t i, const detail::WorldState& B, std::size_t j) {

@@ -61,7 +61,8 @@ class StandbyServer {
 
   StandbyStatus status() const;  // thread-safe
   // The port its admin endpoint listens on while it follows (--admin-port 0: the one the system
-  // chose), 0 without one or before run() opened it. Thread-safe.
+  // chose), after a takeover the new primary's; 0 without one or before run() opened it.
+  // Thread-safe.
   std::uint16_t admin_port() const;
   nlohmann::json summary() const;   // the standby's figures (up to a takeover)
   // After a takeover: the hosted match's summary (MatchServer::summary()); null before.
