@@ -71,7 +71,9 @@ void open_crowd_ticks_without_allocating(int side, std::uint32_t threads) {
   for (int i = 0; i < side; ++i) {
     for (int j = 0; j < side; ++j) add_sphere(w, -half + 0.66 * i, -half + 0.66 * j, 0.35, (i + j) % 3 ? "infantry" : "heavy");
   }
-  for (int t = 0; t < 200; ++t) {
+  // Warm-up: the jam's pair count reaches its high-water size (after 200 ticks one array still grew
+  // within the next 64 since held pairs start at the conflict share; from 260 on none does).
+  for (int t = 0; t < 300; ++t) {
     steer_to_origin(w);
     w.step();
   }

@@ -36,7 +36,15 @@ inline double pinned_share(const SolverBodies& b, const std::vector<SolverPlane>
   return share_a;
 }
 
-inline void warm_start_pair(SolverBodies& b, SolverPair& p, const std::vector<SolverPlane>& planes) {
+// The share a pair's next push moves body a by: its exact share until its first push (or from the
+// start when it is held by its neighbours), then the conflict share.
+inline double push_share(const SolverPair& p, double conflict_limit) {
+  return p.resolved_once != 0 && conflict_limit > 0.0 ? std::clamp(p.share_a, conflict_limit, 1.0 - conflict_limit)
+                                                      : p.share_a;
+}
+
+inline void warm_start_pair(SolverBodies& b, SolverPair& p, const std::vector<SolverPlane>& planes,
+                            double conflict_limit) {
   if (p.lambda == 0.0) return;
   // Last tick's push is a guess, not a fact: cap it so that a pair whose push kept being undone
   // by something else (a wall) cannot accumulate a push larger than the bodies themselves.
@@ -44,7 +52,7 @@ inline void warm_start_pair(SolverBodies& b, SolverPair& p, const std::vector<So
   double nx, ny;
   pair_direction(b, p, nx, ny);
   // Same split as the solve itself, including bodies pinned against fixed planes.
-  const double move_a = p.lambda * pinned_share(b, planes, p, p.share_a);
+  const double move_a = p.lambda * pinned_share(b, planes, p, push_share(p, conflict_limit));
   const double move_b = p.lambda - move_a;
   b.shift(p.a, -(nx * move_a), -(ny * move_a));
   b.shift(p.b, nx * move_b, ny * move_b);
@@ -59,12 +67,30 @@ inline double move_cut(double dx, double dy, double r) {
 
 }  // namespace
 
-void apply_warm_start(SolverBodies& b, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes) {
+void mark_held_pairs(const SolverBodies& b, std::vector<SolverPair>& pairs, const PairSchedule* schedule,
+                     double conflict_limit) {
+  if (conflict_limit <= 0.0) return;
+  auto mark = [&](SolverPair& p) {
+    if (p.lambda == 0.0) return;
+    const double r_min = std::min(b.r[p.a], b.r[p.b]);
+    // The push the warm start will apply (warm_start_pair's cap), against the depth before it.
+    const double carried = std::min(p.lambda, kWarmStartCapOverRadius * r_min);
+    if (held_by_neighbours(carried, pair_depth(b, p), 1.0 / r_min)) p.resolved_once = 1;
+  };
+  if (schedule != nullptr) {
+    for (const std::uint32_t k : schedule->slow) mark(pairs[k]);
+  } else {
+    for (SolverPair& p : pairs) mark(p);
+  }
+}
+
+void apply_warm_start(SolverBodies& b, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
+                      double conflict_limit) {
   // Positions move directly here (no displacement array): keep where the bodies started.
   const std::size_t n = b.size();
   std::copy(b.x.begin(), b.x.end(), b.warm_x0.begin());
   std::copy(b.y.begin(), b.y.end(), b.warm_y0.begin());
-  for (SolverPair& p : pairs) warm_start_pair(b, p, planes);
+  for (SolverPair& p : pairs) warm_start_pair(b, p, planes, conflict_limit);
   for (std::size_t i = 0; i < n; ++i) {
     const double dx = b.x[i] - b.warm_x0[i], dy = b.y[i] - b.warm_y0[i];
     const double f = move_cut(dx, dy, b.r[i]);
@@ -76,7 +102,7 @@ void apply_warm_start(SolverBodies& b, std::vector<SolverPair>& pairs, const std
 }
 
 void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
-                      PairSchedule& schedule, WorkerPool* pool) {
+                      PairSchedule& schedule, WorkerPool* pool, double conflict_limit) {
   bodies.ensure_pad_slots(schedule.band_count());
   const BodyPtrs b(bodies);
   // In the sweep's forward order (block by block, phase by phase; see for_each_block).
@@ -86,7 +112,7 @@ void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, cons
     for (std::uint32_t l = l0; l < l1; ++l) {
       const PairSchedule::Level& lv = schedule.levels[l];
       warm_start_fast_range(b, schedule, lv.fast_begin, lv.fast_end);
-      for (std::uint32_t j = lv.slow_begin; j < lv.slow_end; ++j) warm_start_pair(bodies, pairs[schedule.slow[j]], planes);
+      for (std::uint32_t j = lv.slow_begin; j < lv.slow_end; ++j) warm_start_pair(bodies, pairs[schedule.slow[j]], planes, conflict_limit);
     }
   });
   // The displacements start at zero, so u is the warm start's move. Each body on its own: shared
@@ -138,8 +164,7 @@ SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs,
   // Pairs with an airborne body or a body against scenery (see pair_schedule.h), and every pair
   // of an unscheduled solve. `worst` is the caller's: a block's own when blocks run side by side.
   auto project_slow = [&](SolverPair& p, double& deepest) {
-    double share = p.share_a;
-    if (p.resolved_once != 0 && conflict_limit > 0.0) share = std::clamp(share, conflict_limit, 1.0 - conflict_limit);
+    double share = push_share(p, conflict_limit);
     if (any_planes) share = pinned_share(bodies, planes, p, share);
     const double pen = project_pair(b, p, share);
     if (pen > 0.0) {

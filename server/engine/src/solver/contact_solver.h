@@ -24,15 +24,23 @@ struct SolveResult {
   std::uint32_t band_sweeps_skipped = 0;
 };
 
+// Marks the pairs that start the solve held by their neighbours (held_by_neighbours in
+// pair_schedule.h) as already pushed once (SolverPair::resolved_once), so that their warm start and
+// every push take the conflict share. With a schedule only its slow pairs: the schedule marks its
+// fast pairs itself when it is built. Call before the warm start; a no-op when the limit is off.
+void mark_held_pairs(const SolverBodies& bodies, std::vector<SolverPair>& pairs, const PairSchedule* schedule,
+                     double conflict_share_limit);
+
 // Applies each pair's warm-start push (pair.lambda from the previous tick) along the current normal,
 // then cuts every body's net warm-start move to kWarmStartMoveCapOverRadius of its radius (see
-// there).
-void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes);
+// there). A pair marked by mark_held_pairs moves its bodies at the conflict share.
+void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
+                      double conflict_share_limit = 0.0);
 // The same for a scheduled solve, in the order of its forward sweep (for_each_block: the blocks of a
 // phase on the pool's threads, the same bits for any number), on the float displacements; the
 // fast pairs' lambda is then the schedule's copy.
 void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
-                      PairSchedule& schedule, WorkerPool* pool = nullptr);
+                      PairSchedule& schedule, WorkerPool* pool = nullptr, double conflict_share_limit = 0.0);
 
 // Which of the two solves a tick gets (see solve_contacts). It changes the bits (the scheduled
 // solve carries displacements in float), so it is a function of the saved state only: the pair

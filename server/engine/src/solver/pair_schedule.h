@@ -24,6 +24,7 @@
 // Fast pairs (both bodies grounded, neither touching fixed scenery: the crowd's common case) are
 // copied into structure-of-arrays form for the kernel in fast_pair_kernel.h; the others stay in
 // SolverPair form and are projected by the general code.
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -68,6 +69,22 @@ inline constexpr double kFastWarmStartCapOverRadius = 8.0;
 // Smaller, a jam that steps its full speed rebuilds its pressure too slowly; larger, unseen pairs
 // get through (the worst-tick figures per cap are in docs/design/solver.md).
 inline constexpr double kWarmStartMoveCapOverRadius = 0.1;
+
+// A pair held together by its neighbours (a jam), not by its own bodies' steps, starts its tick
+// at the conflict share (WorldSettings::conflict_share_limit), as if already pushed once. Why: the
+// exact share is what a pair sees on first contact. A pair of a light and a heavy body inside a
+// packed crowd of unequal weights carries a push of a radius or more from tick to tick; started at
+// the exact share, its warm start and first push threw that whole push on the light body, and the
+// sweeps had to rebuild the heavy body's part every tick, which 8 sweeps never did (the mixed
+// crowd's worst ticks, docs/design/solver.md, "Held pairs"). The test: the push carried from last
+// tick exceeds the pair's penetration at the start of this one (what its own bodies' steps closed)
+// by more than this fraction of the smaller radius. A light body walking into a heavy one carries
+// about what it closes each tick and keeps the exact ratio (tested); the margin keeps float
+// rounding and a slowing walker from tipping such a pair over.
+inline constexpr double kHeldPushMarginOverRadius = 0.02;
+inline bool held_by_neighbours(double carried_push, double start_pen, double inv_r_min) {
+  return (carried_push - std::max(start_pen, 0.0)) * inv_r_min > kHeldPushMarginOverRadius;
+}
 
 // A fast pair's warm-start cap in metres, from its smaller radius. Both schedule sources
 // (pair_schedule_build.h, the kept list's records in world_pair_list.cpp) call this, so a pair gets
@@ -134,9 +151,10 @@ struct PairSchedule {
   std::vector<std::uint32_t> a, b;
   std::vector<float> nx, ny, pen0;
   std::vector<float> target;  // read only for push events' start depth
-  // Share of the next push: exact until the pair's first push, then the conflict share. This is
-  // also the fast pairs' only record of SolverPair::resolved_once, which nothing reads after the
-  // solve, so it is not copied back.
+  // Share of the next push: exact until the pair's first push, then the conflict share (from the
+  // start for a pair held by its neighbours, held_by_neighbours). This is also the fast pairs' only
+  // record of SolverPair::resolved_once, which nothing reads after the solve, so it is not copied
+  // back.
   std::vector<float> share_now;
   std::vector<float> share_exact;      // the pair's own share (for push events)
   // The conflict share is std::clamp(exact share, lo, hi); clamping is idempotent, so clamping

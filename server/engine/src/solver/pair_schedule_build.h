@@ -279,7 +279,10 @@ void build_pair_schedule_from(const SolverBodies& bodies, const Source& pairs, d
       s.ny[f] = static_cast<float>(dy);
       s.pen0[f] = static_cast<float>(static_cast<double>(p.target) - dist);
       s.target[f] = p.target;
-      s.share_now[f] = p.share_now;
+      // Clamping is a no-op when the limit is off ([0, 1]).
+      s.share_now[f] = held_by_neighbours(p.lambda, s.pen0[f], p.inv_r_min)
+                           ? std::clamp(p.share_now, s.conflict_lo, s.conflict_hi)
+                           : p.share_now;
       s.share_exact[f] = p.share_exact;
       s.lambda[f] = p.lambda;
       s.inv_r_min[f] = p.inv_r_min;

@@ -265,9 +265,12 @@ void World::Impl::solve(bool apply_warm_start) {
     else detail::build_pair_schedule(sb, pairs, conflict_limit, pair_schedule, pool.get());
   }
   if (settings.record_push_events) detail::measure_start_depths(sb, pairs, planes, scheduled ? &pair_schedule : nullptr);
+  // A list of fast pairs only is scheduled straight from the list (`pairs` is stale then), and the
+  // schedule marks its fast pairs itself.
+  if (!(scheduled && pairs_in_list)) detail::mark_held_pairs(sb, pairs, scheduled ? &pair_schedule : nullptr, conflict_limit);
   if (settings.warm_start && apply_warm_start) {
-    if (scheduled) detail::apply_warm_start(sb, pairs, planes, pair_schedule, pool.get());
-    else detail::apply_warm_start(sb, pairs, planes);
+    if (scheduled) detail::apply_warm_start(sb, pairs, planes, pair_schedule, pool.get(), conflict_limit);
+    else detail::apply_warm_start(sb, pairs, planes, conflict_limit);
   }
   const detail::SolveResult r = detail::solve_contacts(sb, pairs, planes, settings.iterations,
                                                        settings.converged_pen_over_radius, conflict_limit,

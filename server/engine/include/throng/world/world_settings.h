@@ -41,10 +41,12 @@ struct WorldSettings {
   double blocked_motion_carry = 0.9;
   // Conflict share limit (ratio mode only): a pair's first push in a tick uses its exact share
   // (the patent's ratio); any later push of the same pair in that tick — the pair was driven
-  // together again by a third body — uses the share clamped into [limit, 1 - limit]. Without it a
-  // light body caught between a heavy body and a jam is only ever moved itself, and Gauss-Seidel
-  // flips it between the two; with it the jam pushes back on the heavy body. 0 = off. [0, 0.5]
-  double conflict_share_limit = 0.25;
+  // together again by a third body — uses the share clamped into [limit, 1 - limit], and so does a
+  // pair that starts the tick held together by its neighbours (a jam's pressure carried from last
+  // tick). Without it a light body caught between a heavy body and a jam is only ever moved
+  // itself, and Gauss-Seidel flips it between the two; with it the jam pushes back on the heavy
+  // body. 0 = off. [0, 0.5]
+  double conflict_share_limit = 0.35;
   // Cap on neighbour candidates examined per body and tick. A normal crowd never reaches it; it is
   // what keeps the cost linear when thousands of bodies stand in one cell. [4, 4096]
   std::uint32_t max_candidates_per_body = 48;
