@@ -71,10 +71,11 @@ void mark_held_pairs(const SolverBodies& b, std::vector<SolverPair>& pairs, cons
                      double conflict_limit) {
   if (conflict_limit <= 0.0) return;
   auto mark = [&](SolverPair& p) {
-    if (p.lambda == 0.0) return;
     const double r_min = std::min(b.r[p.a], b.r[p.b]);
-    // The push the warm start will apply (warm_start_pair's cap), against the depth before it.
+    // The push the warm start will apply (warm_start_pair's cap), against the depth before it. A
+    // push within the margin cannot be held whatever the depth: no distance to compute.
     const double carried = std::min(p.lambda, kWarmStartCapOverRadius * r_min);
+    if (carried <= kHeldPushMarginOverRadius * r_min) return;
     if (held_by_neighbours(carried, pair_depth(b, p), 1.0 / r_min)) p.resolved_once = 1;
   };
   if (schedule != nullptr) {
