@@ -49,6 +49,7 @@ Match::Impl::Impl(const scene::SceneDef& scene_in, const MatchConfig& config_in,
   timeout_ticks = static_cast<std::uint64_t>(std::llround(config.client_timeout_s * config.tick_hz));
   if (const params::ObjectParams* player = table.find_archetype("player")) player_importance = player->importance;
 
+  built.world.set_push_events_recorded(config.push_events);
   const World& w = world();
   const std::size_t n = w.body_count();
   id_values.resize(n);

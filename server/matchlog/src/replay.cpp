@@ -23,6 +23,7 @@ match::MatchConfig replay_config(const LogHeader& h, const ResimOptions& o) {
     c.interest.radius_m = 0.01;
     c.interest.budget_bytes = 128;
     c.worker_threads = 1;  // not part of any result (match_config.h)
+    c.push_events = o.record_push_events;  // nor this
   }
   return c;
 }

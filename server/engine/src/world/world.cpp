@@ -246,4 +246,9 @@ const params::PushPolicy& World::policy() const { return impl_->policy; }
 const WorldSettings& World::settings() const { return impl_->settings; }
 std::span<const PushEvent> World::push_events() const { return {impl_->events.data(), impl_->event_count}; }
 
+void World::set_push_events_recorded(bool on) {
+  impl_->push_events_off = !on;
+  if (!on) impl_->event_count = 0;
+}
+
 }  // namespace throng

@@ -108,6 +108,8 @@ struct World::Impl {
   // This tick's push events: the first event_count (the buffer keeps its high-water size).
   std::vector<PushEvent> events;
   std::size_t event_count = 0;
+  bool push_events_off = false;  // World::set_push_events_recorded(false)
+  bool records_push_events() const { return settings.record_push_events && !push_events_off; }
   std::vector<double> start_x, start_y, start_z;
   std::vector<double> moved_x, moved_y;  // after the move phase, before the solve
   std::vector<double> median_scratch;

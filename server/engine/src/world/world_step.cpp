@@ -264,7 +264,7 @@ void World::Impl::solve(bool apply_warm_start) {
     if (pairs_in_list) schedule_list_pairs(conflict_limit);
     else detail::build_pair_schedule(sb, pairs, conflict_limit, pair_schedule, pool.get());
   }
-  if (settings.record_push_events) detail::measure_start_depths(sb, pairs, planes, scheduled ? &pair_schedule : nullptr);
+  if (records_push_events()) detail::measure_start_depths(sb, pairs, planes, scheduled ? &pair_schedule : nullptr);
   // A list of fast pairs only is scheduled straight from the list (`pairs` is stale then), and the
   // schedule marks its fast pairs itself.
   if (!(scheduled && pairs_in_list)) detail::mark_held_pairs(sb, pairs, scheduled ? &pair_schedule : nullptr, conflict_limit);
@@ -299,7 +299,7 @@ void World::Impl::store_warm_start_and_events() {
   const std::vector<std::uint32_t>& order = solver_order;
   // The push events describe the tick's first solve (its start depths, shares and pushes); the
   // second solve's pushes, which include the first's, are what the next tick starts from.
-  const bool record = settings.record_push_events && !second_solve;
+  const bool record = records_push_events() && !second_solve;
   // Room for an event per pair and plane: the buffer only grows (warm-up); event_count says how
   // many this tick holds.
   const std::size_t most = (sb.displaced ? pair_schedule.fast_size() + pair_schedule.slow.size() : pairs.size()) +

@@ -67,6 +67,12 @@ class World {
   void set_policy(const params::PushPolicy& policy);
   void set_group_base_morale(std::uint32_t group_id, double morale);
   void set_cameras(std::span<const Vec3> camera_positions);
+  // Whether steps record push events (push_events()), as WorldSettings::record_push_events says
+  // unless turned off here. A machine-side switch, like WorldSettings::threads: the state does not
+  // depend on it (events steer nothing), so it is not in checkpoints or the config hash, and a
+  // re-simulation that reads no events turns it off (recording them is about a twentieth of a
+  // battle's step). Turning it off also empties push_events().
+  void set_push_events_recorded(bool on);
   void set_iterations(std::uint32_t iterations);
 
   // --- the tick ---------------------------------------------------------------------------------

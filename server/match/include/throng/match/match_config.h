@@ -38,6 +38,10 @@ struct MatchConfig {
   // included. The state is the same bits for any number: a large crowd's tick gets shorter, a
   // small one's (up to about 5,000 bodies, one block of the schedule) does not change.
   std::uint32_t solver_threads = 1;
+  // Whether the world records push events as its scene settings say (the contacts overlay, the
+  // tick report's count). Results do not depend on it (World::set_push_events_recorded): a
+  // re-simulation that reads no events turns it off.
+  bool push_events = true;
   std::uint64_t seed = 1;                 // AI tie-breaks (deterministic)
   InterestConfig interest;
   ContactsConfig contacts;

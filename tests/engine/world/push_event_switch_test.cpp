@@ -1,0 +1,42 @@
+// World::set_push_events_recorded: a re-simulation that reads no push events turns them off. The
+// state must not depend on it, and the events must say so (none while off, this tick's once on).
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "throng/scene/build_scene.h"
+#include "throng/scene/builtin_scenes.h"
+#include "throng/scene/scale.h"
+
+namespace throng {
+namespace {
+
+TEST(PushEventSwitch, TurningEventsOffChangesNoStateAndEmptiesThem) {
+  // Scenery (the general pairs and their planes) and unequal weights (held pairs), on both solves.
+  for (const std::string name : {"mixed", "street"}) {
+    scene::SceneDef def = scene::scale_scene(scene::load_scene(name), 2000);
+    scene::BuiltScene on = scene::build_scene(def);
+    scene::BuiltScene off = scene::build_scene(def);
+    off.world.set_push_events_recorded(false);
+    for (int t = 1; t <= 90; ++t) {
+      if (t == 60) off.world.set_push_events_recorded(true);
+      on.driver.apply(on.world);
+      on.world.step();
+      off.driver.apply(off.world);
+      off.world.step();
+      ASSERT_EQ(on.world.state_hash(), off.world.state_hash()) << name << " tick " << t;
+      if (t < 60) {
+        ASSERT_TRUE(off.world.push_events().empty()) << name << " tick " << t;
+      } else {
+        ASSERT_EQ(on.world.push_events().size(), off.world.push_events().size()) << name << " tick " << t;
+      }
+    }
+    EXPECT_FALSE(on.world.push_events().empty()) << name << ": the scene must push for this test to mean anything";
+    // Off again: this tick's events are gone at once, not left from the last recorded tick.
+    off.world.set_push_events_recorded(false);
+    EXPECT_TRUE(off.world.push_events().empty()) << name;
+  }
+}
+
+}  // namespace
+}  // namespace throng
