@@ -127,7 +127,7 @@ Solved solve_with(const Crowd& crowd, unsigned threads) {
   PairSchedule s;
   build_pair_schedule(b, p, 0.25, s, pool.get());
   const std::vector<SolverPlane> no_planes;
-  apply_warm_start(b, p, no_planes, s, pool.get());
+  apply_warm_start(b, p, no_planes, s, 0.25, pool.get());
   Solved out;
   out.result = solve_contacts(b, p, no_planes, 8, 0.0, 0.25, s, true, pool.get());
   out.u = b.u;

@@ -52,7 +52,7 @@ constexpr double kCap = kWarmStartMoveCapOverRadius * 0.35;
 TEST(WarmMoveCut, AnUnbalancedGuessMovesABodyNoFurtherThanTheCap) {
   // Unscheduled: the general pairs' cap (half a radius) lets 0.175 m of each push through.
   Row row(0.175, 0.0);
-  apply_warm_start(row.b, row.pairs, kNoPlanes);
+  apply_warm_start(row.b, row.pairs, kNoPlanes, 0.0);
   // Alone, pair (0, 1) would move the middle body 0.0875 m; the cut keeps it to the cap.
   EXPECT_NEAR(row.moved(1, 0.6), kCap, 1e-12);
   EXPECT_NEAR(row.moved(0, 0.0), kCap, 1e-12);
@@ -68,7 +68,7 @@ TEST(WarmMoveCut, BalancedPressurePassesWhole) {
   std::fill(row.b.u.begin(), row.b.u.end(), 0.0f);
   PairSchedule s;
   build_pair_schedule(row.b, row.pairs, 0.0, s);
-  apply_warm_start(row.b, row.pairs, kNoPlanes, s);
+  apply_warm_start(row.b, row.pairs, kNoPlanes, s, 0.0);
   EXPECT_LT(row.moved(1, 0.6), 1e-6) << "balanced pushes cancel, nothing to cut";
   EXPECT_NEAR(row.moved(0, 0.0), kCap, 1e-6);
   EXPECT_NEAR(row.moved(2, 1.2), kCap, 1e-6);

@@ -21,7 +21,7 @@
 
 namespace throng {
 namespace {
-// World::Impl::config_hash() of pinned_settings() with no scenery (see ConfigHashOfDefaultSettingsIsPinned).
+// World::Impl::config_hash() of pinned_settings() with no scenery (see ConfigHashOfFixedSettingsIsPinned).
 // The settings are the defaults of the day the value was pinned: a later change of a default must
 // not move the pin, as the pin is about how the hash is taken.
 constexpr std::uint64_t kPinnedConfigHash = 0xa38201de6be275c4ull;
@@ -271,7 +271,7 @@ TEST(WorldCheckpoint, VersionTwoWithItsIdColumnStillRestores) {
 // one. The hash walks the settings table (settings_fields.h) row by row, so reordering the table,
 // or hashing a field another way, would make every earlier checkpoint and match log unreadable:
 // the value for one fixed set of settings (pinned_settings) is pinned here.
-TEST(WorldCheckpoint, ConfigHashOfDefaultSettingsIsPinned) {
+TEST(WorldCheckpoint, ConfigHashOfFixedSettingsIsPinned) {
   World w(pinned_settings(), scene::load_param_table({}), scene::load_push_policy({}));
   std::vector<std::uint8_t> saved;
   w.save_state(saved);

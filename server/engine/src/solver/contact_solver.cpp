@@ -103,7 +103,7 @@ void apply_warm_start(SolverBodies& b, std::vector<SolverPair>& pairs, const std
 }
 
 void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
-                      PairSchedule& schedule, WorkerPool* pool, double conflict_limit) {
+                      PairSchedule& schedule, double conflict_limit, WorkerPool* pool) {
   bodies.ensure_pad_slots(schedule.band_count());
   const BodyPtrs b(bodies);
   // In the sweep's forward order (block by block, phase by phase; see for_each_block).

@@ -35,12 +35,12 @@ void mark_held_pairs(const SolverBodies& bodies, std::vector<SolverPair>& pairs,
 // then cuts every body's net warm-start move to kWarmStartMoveCapOverRadius of its radius (see
 // there). A pair marked by mark_held_pairs moves its bodies at the conflict share.
 void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
-                      double conflict_share_limit = 0.0);
+                      double conflict_share_limit);
 // The same for a scheduled solve, in the order of its forward sweep (for_each_block: the blocks of a
 // phase on the pool's threads, the same bits for any number), on the float displacements; the
 // fast pairs' lambda is then the schedule's copy.
 void apply_warm_start(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
-                      PairSchedule& schedule, WorkerPool* pool = nullptr, double conflict_share_limit = 0.0);
+                      PairSchedule& schedule, double conflict_share_limit, WorkerPool* pool = nullptr);
 
 // Which of the two solves a tick gets (see solve_contacts). It changes the bits (the scheduled
 // solve carries displacements in float), so it is a function of the saved state only: the pair

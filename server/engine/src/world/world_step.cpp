@@ -266,10 +266,13 @@ void World::Impl::solve(bool apply_warm_start) {
   }
   if (records_push_events()) detail::measure_start_depths(sb, pairs, planes, scheduled ? &pair_schedule : nullptr);
   // A list of fast pairs only is scheduled straight from the list (`pairs` is stale then), and the
-  // schedule marks its fast pairs itself.
+  // schedule marks its fast pairs itself. In the second solve of a tick the carried push is the
+  // first solve's (already applied, the start penetration about zero): a pair that pushed then has
+  // had its first push of the tick, so its later pushes and give-backs take the conflict share,
+  // as they would have in one longer solve.
   if (!(scheduled && pairs_in_list)) detail::mark_held_pairs(sb, pairs, scheduled ? &pair_schedule : nullptr, conflict_limit);
   if (settings.warm_start && apply_warm_start) {
-    if (scheduled) detail::apply_warm_start(sb, pairs, planes, pair_schedule, pool.get(), conflict_limit);
+    if (scheduled) detail::apply_warm_start(sb, pairs, planes, pair_schedule, conflict_limit, pool.get());
     else detail::apply_warm_start(sb, pairs, planes, conflict_limit);
   }
   const detail::SolveResult r = detail::solve_contacts(sb, pairs, planes, settings.iterations,

@@ -1,7 +1,10 @@
 #pragma once
 // One resolved contact of a tick, as the publisher, the log and the viewer see it ("results as
-// arrays, not callbacks"). share_a is the fraction of the push that moved a (b moved 1 - share_a);
-// for a body against fixed scenery, b is the fixed object's id and share_a is 1 (or the soft share).
+// arrays, not callbacks"). share_a is the pair's own share, the fraction of a push that moves a
+// (b moves 1 - share_a): the patent's ratio. Pushes a pair makes in conflict (a later push in the
+// tick, or every push of a pair held by its neighbours, WorldSettings::conflict_share_limit) split
+// at that share clamped into [limit, 1 - limit]; the event still carries the pair's own share.
+// For a body against fixed scenery, b is the fixed object's id and share_a is 1 (or the soft share).
 #include <cstdint>
 
 #include "throng/core/object_id.h"
