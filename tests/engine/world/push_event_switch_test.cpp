@@ -20,10 +20,12 @@ TEST(PushEventSwitch, TurningEventsOffChangesNoStateAndEmptiesThem) {
     scene::BuiltScene off = scene::build_scene(def);
     off.world.set_push_events_recorded(false);
     int second_searches = 0;
+    std::size_t events_on = 0;
     for (int t = 1; t <= 90; ++t) {
       if (t == 60) off.world.set_push_events_recorded(true);
       on.driver.apply(on.world);
       second_searches += static_cast<int>(on.world.step().second_search);
+      events_on += on.world.push_events().size();
       off.driver.apply(off.world);
       off.world.step();
       ASSERT_EQ(on.world.state_hash(), off.world.state_hash()) << name << " tick " << t;
@@ -40,7 +42,7 @@ TEST(PushEventSwitch, TurningEventsOffChangesNoStateAndEmptiesThem) {
             << name << " tick " << t << " event " << k;
       }
     }
-    EXPECT_FALSE(on.world.push_events().empty()) << name << ": the scene must push for this test to mean anything";
+    EXPECT_GT(events_on, 0u) << name << ": the scene must push for this test to mean anything";
     // mixed's charging riders move bodies past the margin: ticks that search and solve twice.
     if (name == "mixed") {
       EXPECT_GT(second_searches, 0);
