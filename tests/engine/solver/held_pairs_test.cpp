@@ -1,6 +1,6 @@
 // mark_held_fast_pairs (pair_schedule_build.h): the held test and the clamp, four pairs at a time
 // in SSE and one at a time past the last group of four, must give the bits of the scalar rule
-// (held_fast_pair, std::clamp) for every pair, wherever a range starts and ends.
+// (held_by_neighbours in float, std::clamp) for every pair, wherever a range starts and ends.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -45,7 +45,7 @@ TEST(HeldFastPairs, VectorAndScalarPathsGiveTheScalarRulesBits) {
   s.pen0[9] = 0.0f;
   const std::vector<float> before = s.share_now;
   auto expected = [&](std::uint32_t f) {
-    return held_fast_pair(s.lambda[f], s.pen0[f], s.inv_r_min[f]) ? std::clamp(before[f], s.conflict_lo, s.conflict_hi)
+    return held_by_neighbours(s.lambda[f], s.pen0[f], s.inv_r_min[f]) ? std::clamp(before[f], s.conflict_lo, s.conflict_hi)
                                                                   : before[f];
   };
   std::uint32_t held = 0;

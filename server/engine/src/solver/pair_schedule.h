@@ -82,8 +82,10 @@ inline constexpr double kWarmStartMoveCapOverRadius = 0.1;
 // about what it closes each tick and keeps the exact ratio (tested); the margin keeps float
 // rounding and a slowing walker from tipping such a pair over.
 inline constexpr double kHeldPushMarginOverRadius = 0.02;
-inline bool held_by_neighbours(double carried_push, double start_pen, double inv_r_min) {
-  return (carried_push - std::max(start_pen, 0.0)) * inv_r_min > kHeldPushMarginOverRadius;
+// In double for the general pairs, in float on the fast pairs' columns (mark_held_fast_pairs).
+template <typename T>
+inline bool held_by_neighbours(T carried_push, T start_pen, T inv_r_min) {
+  return (carried_push - std::max(start_pen, T{0})) * inv_r_min > static_cast<T>(kHeldPushMarginOverRadius);
 }
 
 // A fast pair's warm-start cap in metres, from its smaller radius. Both schedule sources

@@ -42,12 +42,10 @@ inline SlotFields slot_fields(std::uint32_t a, std::uint32_t b, double target, d
 }
 
 // Fast pairs [f0, f1) whose carried push exceeds their start penetration by more than the margin
-// (held_by_neighbours, in float on the schedule's columns) take the conflict share from the start.
-// Whether a pair is held is data-dependent (about half of a packed crowd's pairs): as a branch its
-// mispredictions cost a kept crush tick several percent, so it is a select, four pairs at a time.
-inline bool held_fast_pair(float lambda, float pen0, float inv_r_min) {
-  return (lambda - std::max(pen0, 0.0f)) * inv_r_min > static_cast<float>(kHeldPushMarginOverRadius);
-}
+// (held_by_neighbours, in float on the schedule's columns) take the conflict share from the start
+// (clamping changes nothing when the limit is off: [0, 1]). Whether a pair is held is
+// data-dependent (about half of a packed crowd's pairs): as a branch its mispredictions cost a
+// kept crush tick several percent, so it is a select, four pairs at a time.
 inline void mark_held_fast_pairs(PairSchedule& s, std::uint32_t f0, std::uint32_t f1) {
   const float lo = s.conflict_lo, hi = s.conflict_hi;
   const float* const lambda = s.lambda.data();
@@ -56,7 +54,7 @@ inline void mark_held_fast_pairs(PairSchedule& s, std::uint32_t f0, std::uint32_
   float* const share = s.share_now.data();
   std::uint32_t f = f0;
 #if defined(__SSE2__)
-  // The same test as held_fast_pair: max(pen0, 0) may differ from std::max only in the sign of a
+  // The same test as held_by_neighbours: max(pen0, 0) may differ from std::max only in the sign of a
   // zero, which changes no difference lambda - max; the clamp is the kernel's (fast_pair_kernel.h).
   const __m128 zero = _mm_setzero_ps(), margin = _mm_set1_ps(static_cast<float>(kHeldPushMarginOverRadius));
   const __m128 lo4 = _mm_set1_ps(lo), hi4 = _mm_set1_ps(hi);
@@ -70,7 +68,7 @@ inline void mark_held_fast_pairs(PairSchedule& s, std::uint32_t f0, std::uint32_
   }
 #endif
   for (; f < f1; ++f) {
-    if (held_fast_pair(lambda[f], pen0[f], inv_r_min[f])) share[f] = std::clamp(share[f], lo, hi);
+    if (held_by_neighbours(lambda[f], pen0[f], inv_r_min[f])) share[f] = std::clamp(share[f], lo, hi);
   }
 }
 
@@ -316,7 +314,6 @@ void build_pair_schedule_from(const SolverBodies& bodies, const Source& pairs, d
       s.ny[f] = static_cast<float>(dy);
       s.pen0[f] = static_cast<float>(static_cast<double>(p.target) - dist);
       s.target[f] = p.target;
-      // Clamping is a no-op when the limit is off ([0, 1]).
       s.share_now[f] = p.share_now;
       s.share_exact[f] = p.share_exact;
       s.lambda[f] = p.lambda;
