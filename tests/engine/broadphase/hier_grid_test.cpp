@@ -7,11 +7,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <set>
 #include <utility>
 #include <vector>
 
+#include "broadphase/cell_key.h"
 #include "broadphase/hier_grid.h"
 #include "throng/core/worker_pool.h"
 
@@ -187,4 +189,28 @@ TEST(HierGrid, SearchOnAPoolGivesTheSameListSparseLevels) {
 }
 
 }  // namespace
+// cell_coord computes floor by truncation (no library call): the same cell as clamp(floor(v * inv))
+// for every finite coordinate and the infinities, at cell edges, around zero and at the clamp.
+TEST(CellCoord, IsTheClampedFloor) {
+  auto reference = [](double v, double inv) {
+    return static_cast<std::int64_t>(std::clamp(std::floor(v * inv), -kCellCoordLimit, kCellCoordLimit));
+  };
+  std::vector<double> values = {0.0, -0.0, 0.5, -0.5, 1.0, -1.0, 0.7999999999999999, -0.8, 2.4, -2.4, 1e-300, -1e-300,
+                                std::nextafter(0.8, 0.0), std::nextafter(-0.8, 0.0), 8.6e8, -8.6e8, 1e12, -1e12,
+                                std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(),
+                                std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  for (int k = -2000; k <= 2000; ++k) {
+    const double edge = 0.8 * k;
+    values.push_back(edge);
+    values.push_back(std::nextafter(edge, -1e300));
+    values.push_back(std::nextafter(edge, 1e300));
+  }
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> wide(-1e9, 1e9), near(-50.0, 50.0);
+  for (int k = 0; k < 20000; ++k) values.push_back(k % 2 == 0 ? wide(rng) : near(rng));
+  for (const double inv : {1.0 / 0.8, 1.0, 0.5, 1.0 / 2.0, 1.0 / 0.35}) {
+    for (const double v : values) ASSERT_EQ(cell_coord(v, inv), reference(v, inv)) << v << " * " << inv;
+  }
+}
+
 }  // namespace throng::detail

@@ -11,8 +11,14 @@ namespace throng::detail {
 
 inline constexpr double kCellCoordLimit = 1073741824.0;  // 2^30
 
+// floor(clamp(v * inv_cell)), which is clamp(floor(v * inv_cell)) for integer bounds. The floor is
+// truncation, less one where truncation rounded up (exact within the bounds): std::floor is a
+// library call without SSE4.1, and the scenery and morale grids ask for cells of every body
+// several times a tick.
 inline std::int64_t cell_coord(double v, double inv_cell) {
-  return static_cast<std::int64_t>(std::clamp(std::floor(v * inv_cell), -kCellCoordLimit, kCellCoordLimit));
+  const double a = std::clamp(v * inv_cell, -kCellCoordLimit, kCellCoordLimit);
+  const auto t = static_cast<std::int64_t>(a);
+  return t - static_cast<std::int64_t>(static_cast<double>(t) > a);
 }
 
 // Row-major: rows (y) in the high 32 bits, so sorting keys sorts cells row by row.
