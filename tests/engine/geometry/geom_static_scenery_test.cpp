@@ -15,6 +15,9 @@
 #include <stdexcept>
 #include <string>
 
+#include <random>
+
+#include "geometry/scenery_impl.h"
 #include "throng/geometry/static_scenery.h"
 
 namespace throng::geom {
@@ -400,6 +403,53 @@ TEST(GeomScenery, ResultsOrderedByShapeIndex) {
   std::vector<SceneryContact> again = out;
   s.query(UprightCapsule{0, 0, 1.0, 0.5, 1.2}, again);
   EXPECT_EQ(again.size(), 6u);
+}
+
+// A small scenery's queries test the shapes' boxes in a loop (detail::kLinearGatherShapes); a large
+// one walks FCL's tree. The same shapes queried both ways (the second scenery has far-away shapes
+// added after them) give the same contacts, bit for bit: upright and tilted movers, touching,
+// grazing and deep, against boxes (rotated too), cylinders and a mesh.
+TEST(GeomScenery, SmallSceneryLoopFindsWhatTheTreeFinds) {
+  static_assert(detail::kLinearGatherShapes >= 20 && detail::kLinearGatherShapes < 45);
+  StaticScenery small, large;
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> pos(-8.0, 8.0), ext(0.1, 2.0), yaw(-3.2, 3.2);
+  auto add = [&](StaticScenery& s, int k, double dx) {
+    if (k % 4 == 3) {
+      const double x = 3.0 * (k % 3) - 3.0 + dx, y = 2.0 * (k % 5) - 4.0;
+      add_box_mesh(s, {x, y, 0.0}, {x + 0.8, y + 0.6, 2.0});
+    } else if (k % 4 == 2) {
+      s.add_cylinder({pos(rng) + dx, pos(rng), 1.0}, ext(rng), 1.0);
+    } else {
+      s.add_box({pos(rng) + dx, pos(rng), ext(rng)}, {ext(rng), ext(rng), ext(rng)}, k % 2 == 0 ? 0.0 : yaw(rng));
+    }
+  };
+  const auto seed_state = rng;
+  for (int k = 0; k < 20; ++k) add(small, k, 0.0);
+  rng = seed_state;
+  for (int k = 0; k < 20; ++k) add(large, k, 0.0);
+  for (int k = 0; k < 25; ++k) add(large, k, 5000.0);
+  small.build();
+  large.build();
+  ASSERT_LE(small.size(), detail::kLinearGatherShapes);
+  ASSERT_GT(large.size(), detail::kLinearGatherShapes);
+  std::uniform_real_distribution<double> at(-10.0, 10.0), tilt(-0.6, 0.6), radius(0.2, 1.2);
+  std::size_t contacts = 0;
+  for (int q = 0; q < 4000; ++q) {
+    const double x = at(rng), y = at(rng), r = radius(rng);
+    const Capsule mover = q % 3 == 0 ? Capsule{{x, y, 0.2}, {x + tilt(rng), y + tilt(rng), 1.6}, r} : upright(x, y, 0.2, 1.6, r);
+    const auto a = query(small, mover), b = query(large, mover);
+    ASSERT_EQ(a.size(), b.size()) << "query " << q;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].shape, b[i].shape);
+      EXPECT_EQ(a[i].depth, b[i].depth);
+      EXPECT_EQ(a[i].normal.x, b[i].normal.x);
+      EXPECT_EQ(a[i].normal.y, b[i].normal.y);
+      EXPECT_EQ(a[i].normal.z, b[i].normal.z);
+    }
+    contacts += a.size();
+  }
+  EXPECT_GT(contacts, 1000u);  // the movers meet the shapes often, not only the empty floor
 }
 
 TEST(GeomScenery, AccessorsAndNearTest) {

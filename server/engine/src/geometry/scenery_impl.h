@@ -56,6 +56,14 @@ SignedPenetration mesh_penetration(const ShapeRecord& shape, const MeshShape& me
 
 }  // namespace detail
 
+namespace detail {
+// Up to this many shapes, a query tests every shape's AABB in a loop rather than walking FCL's
+// tree. Why: a battlefield has a handful of walls and towers, and walking the tree (and refitting
+// its probe box) cost several times the overlap tests themselves. The loop makes FCL's overlap
+// test on the same boxes, so the candidates are the same.
+inline constexpr std::size_t kLinearGatherShapes = 32;
+}  // namespace detail
+
 struct StaticScenery::Impl {
   std::vector<detail::ShapeRecord> shapes;
   std::vector<detail::BoxShape> boxes;
@@ -63,6 +71,9 @@ struct StaticScenery::Impl {
   std::vector<detail::MeshShape> meshes;
   Aabb bounds;
   std::unique_ptr<fcl::DynamicAABBTreeCollisionManagerd> manager;
+  // The proxies' AABBs as FCL holds them (its tree's leaves), by shape index: up to
+  // detail::kLinearGatherShapes shapes, gather tests them in a loop instead of walking the tree.
+  std::vector<Aabb> proxy_aabbs;
   bool built = false;
 
   std::uint32_t add(ShapeKind kind, std::uint32_t slot, const Aabb& box,

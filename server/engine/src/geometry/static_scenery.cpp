@@ -127,6 +127,7 @@ std::uint32_t StaticScenery::Impl::add(ShapeKind kind, std::uint32_t slot, const
   r.proxy = std::make_unique<fcl::CollisionObjectd>(proxy_box, proxy_pose);
   const auto index = static_cast<std::uint32_t>(shapes.size());
   r.proxy->setUserData(reinterpret_cast<void*>(static_cast<std::uintptr_t>(index) + 1u));
+  proxy_aabbs.push_back({detail::from_fcl(r.proxy->getAABB().min_), detail::from_fcl(r.proxy->getAABB().max_)});
   if (shapes.empty()) {
     bounds = box;
   } else {
@@ -150,6 +151,22 @@ void StaticScenery::Impl::require_built(const char* where) const {
 void StaticScenery::Impl::gather(const Aabb& box, detail::QueryScratch& s) const {
   s.candidates.clear();
   if (shapes.empty()) return;
+  if (shapes.size() <= detail::kLinearGatherShapes) {
+    // The probe's AABB as set_probe has FCL compute it (Box::computeLocalAABB, then the identity
+    // pose's translate), and AABB::overlap's test, shape by shape in index order.
+    const Aabb q = inflate(box);
+    const Vec3 side = q.hi - q.lo;
+    const Vec3 half{0.5 * side.x, 0.5 * side.y, 0.5 * side.z};
+    const Vec3 centre = (q.lo + q.hi) * 0.5;
+    const Vec3 lo{-half.x + centre.x, -half.y + centre.y, -half.z + centre.z};
+    const Vec3 hi{half.x + centre.x, half.y + centre.y, half.z + centre.z};
+    for (std::size_t i = 0; i < proxy_aabbs.size(); ++i) {
+      const Aabb& b = proxy_aabbs[i];
+      const bool apart = lo.x > b.hi.x || lo.y > b.hi.y || lo.z > b.hi.z || hi.x < b.lo.x || hi.y < b.lo.y || hi.z < b.lo.z;
+      if (!apart) s.candidates.push_back(static_cast<std::uint32_t>(i));
+    }
+    return;
+  }
   set_probe(s, inflate(box));
   manager->collide(s.probe.get(), &s.candidates, &collect_callback);
   // The tree's visiting order is an implementation detail; results must follow shape index.
