@@ -2,6 +2,7 @@
 // The solver's working set for one tick, in broadphase (spatial) order: bodies gathered from the
 // world's dense arrays, candidate pairs with their push share and accumulated push, and the
 // separating planes against fixed scenery. Reused between ticks: no allocation after warm-up.
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -90,6 +91,17 @@ struct BodyPtrs {
   double py(std::uint32_t i) const { return displaced_coord(y, u, displaced, i, 1); }
   void shift(std::uint32_t i, double dx, double dy) const { shift_body(x, y, u, displaced, i, dx, dy); }
 };
+
+// SolverPair::target of two bodies whose radii sum to rsum and whose vertical core segments are
+// gap_z apart (negative when they overlap in height): upright capsules at fixed heights need
+// exactly this horizontal separation, the radius sum when their cores overlap in height (the
+// common case); -1 unless both are grounded (resolved in 3D).
+inline double separation_target(bool both_grounded, double rsum, double gap_z) {
+  if (!both_grounded) return -1.0;
+  if (gap_z <= 0.0) return rsum;
+  const double target2 = rsum * rsum - gap_z * gap_z;
+  return target2 > 0.0 ? std::sqrt(target2) : 0.0;
+}
 
 struct SolverPair {
   std::uint32_t a, b;     // solver indices

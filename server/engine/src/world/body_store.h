@@ -49,6 +49,18 @@ inline float find_warm_push(const WarmEntry* e, std::uint32_t count, std::uint32
 #endif
 }
 
+// The push pair (a, b) (solver indices) kept last tick: the body with the smaller id owns the
+// entry (order maps solver to dense indices, where the entries live). The owner is picked by
+// selects: which id is smaller is a coin toss in a crowd, and as a branch it mispredicted for half
+// the pairs of a search.
+inline float kept_pair_push(const std::uint32_t* id, const std::uint32_t* order, const WarmEntry* warm,
+                            const std::uint8_t* warm_count, std::uint32_t a, std::uint32_t b) {
+  const std::uint32_t id_a = id[a], id_b = id[b];
+  const bool a_owns = id_a < id_b;
+  const std::uint32_t owner = order[a_owns ? a : b];
+  return find_warm_push(warm + std::size_t{owner} * kWarmSlots, warm_count[owner], a_owns ? id_b : id_a);
+}
+
 struct BodyStore {
   std::vector<double> x, y, z;        // centre [m]
   std::vector<double> vx, vy, vz;     // desired velocity [m/s] (an input)

@@ -239,6 +239,7 @@ struct World::Impl {
   void refresh_list_shares();
   void gather_list_resistances();
   void set_list_share(std::size_t e);
+  void set_up_entries(std::size_t begin, std::size_t end, double margin);
   void schedule_list_pairs(double conflict);
   void pairs_from_list(bool gathered);  // gathered: sb already holds the bodies' positions
   bool moved_within_skin(bool restored);

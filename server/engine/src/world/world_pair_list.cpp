@@ -196,22 +196,7 @@ bool World::Impl::search_pair_list(const double* x, const double* y, const doubl
   l.lambda.resize(m);
   l.slot.resize(m);
   gather_list_resistances();
-  for_entry_ranges(m, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t e = begin; e < end; ++e) {
-      const std::uint32_t a = l.found[e].a, b = l.found[e].b;
-      l.a[e] = a;
-      l.b[e] = b;
-      const double target = pair_target(a, b);
-      l.target[e] = target;
-      const double reach = sb.r[a] + sb.r[b] + margin;
-      const double gap_z = std::fabs(sb.z[b] - sb.z[a]) - sb.hh[a] - sb.hh[b];
-      l.reach[e] = (sb.grounded[a] & sb.grounded[b]) && gap_z >= reach ? 0.0 : reach;
-      const double r_min = std::min(sb.r[a], sb.r[b]);
-      const detail::SlotFields f = detail::slot_fields(a, b, target, 0.0, 0.0, false, r_min, 0.0f, 1.0f);
-      l.slot[e] = {f.a, f.b, f.target, 0.0f, f.inv_r_min, 0.0};
-      set_list_share(e);
-    }
-  });
+  for_entry_ranges(m, [&](std::size_t begin, std::size_t end) { set_up_entries(begin, end, margin); });
   l.shares_stale = false;
   l.all_fast = std::all_of(l.target.begin(), l.target.end(), [](double t) { return t >= 0.0; });
   l.fresh = true;
@@ -219,6 +204,43 @@ bool World::Impl::search_pair_list(const double* x, const double* y, const doubl
   l.y = sb.y;
   l.z = sb.z;
   return true;
+}
+
+// Entries [begin, end) of a list just searched: what stays while the list is kept (the separation
+// target, the margin's reach, the schedule slot and the share), computed as pair_target,
+// slot_fields and set_list_share do. One pass over raw columns: as calls per entry (each reloading
+// the vectors it reads) this pass was a fifth of a search.
+void World::Impl::set_up_entries(std::size_t begin, std::size_t end, double margin) {
+  PairList& l = list;
+  const detail::CandidatePair* found = l.found.data();
+  const double* r = sb.r.data();
+  const double* z = sb.z.data();
+  const double* hh = sb.hh.data();
+  const std::uint8_t* grounded = sb.grounded.data();
+  const double* resistance = l.resistance.data();
+  std::uint32_t* ea = l.a.data();
+  std::uint32_t* eb = l.b.data();
+  double* target_of = l.target.data();
+  double* reach_of = l.reach.data();
+  double* share_of = l.share.data();
+  PairList::Slot* slot = l.slot.data();
+  for (std::size_t e = begin; e < end; ++e) {
+    const std::uint32_t a = found[e].a, b = found[e].b;
+    ea[e] = a;
+    eb[e] = b;
+    const double rsum = r[a] + r[b];
+    const double gap_z = std::fabs(z[b] - z[a]) - hh[a] - hh[b];
+    const bool both_grounded = (grounded[a] & grounded[b]) != 0;
+    const double target = detail::separation_target(both_grounded, rsum, gap_z);
+    target_of[e] = target;
+    const double reach = rsum + margin;
+    reach_of[e] = both_grounded && gap_z >= reach ? 0.0 : reach;
+    const double r_min = std::min(r[a], r[b]);
+    const double share = params::share_a_fast(resistance[a], resistance[b]);
+    share_of[e] = share;
+    slot[e] = {a, b, static_cast<float>(target), static_cast<float>(share), static_cast<float>(1.0 / r_min),
+               detail::fast_warm_cap(r_min)};
+  }
 }
 
 // The bodies' resistances in solver order, for the entries' shares: one sequential read per entry's
@@ -304,9 +326,14 @@ void World::Impl::take_list_pairs() {
       k += live ? 1 : 0;
     }
     if constexpr (kFresh) {
+      // warm_push's lookup, inline (a call per entry cost more than the lookups).
+      const std::uint32_t* id = sb.id.data();
+      const std::uint32_t* order = solver_order.data();
+      const detail::WarmEntry* warm_slots = bodies.warm.data();
+      const std::uint8_t* warm_count = bodies.warm_count.data();
       for (std::size_t q = e0; q < k; ++q) {
         const std::uint32_t e = of_pair[q];
-        const float lambda = warm_push(l.a[e], l.b[e]);
+        const float lambda = detail::kept_pair_push(id, order, warm_slots, warm_count, l.a[e], l.b[e]);
         l.lambda[e] = lambda;
         warm += lambda > 0.0f ? 1 : 0;
       }

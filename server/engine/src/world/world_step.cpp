@@ -189,23 +189,13 @@ void World::Impl::search_candidates() {
 }
 
 double World::Impl::pair_target(std::uint32_t a, std::uint32_t b) const {
-  if (!(sb.grounded[a] & sb.grounded[b])) return -1.0;
-  // Upright capsules at fixed heights: the horizontal separation they need is exact (and is just
-  // the radius sum when their cores overlap in height, the common case).
-  const double rsum = sb.r[a] + sb.r[b];
-  const double gap = std::fabs(sb.z[b] - sb.z[a]) - sb.hh[a] - sb.hh[b];
-  if (gap <= 0.0) return rsum;
-  const double target2 = rsum * rsum - gap * gap;
-  return target2 > 0.0 ? std::sqrt(target2) : 0.0;
+  return detail::separation_target((sb.grounded[a] & sb.grounded[b]) != 0, sb.r[a] + sb.r[b],
+                                   std::fabs(sb.z[b] - sb.z[a]) - sb.hh[a] - sb.hh[b]);
 }
 
 float World::Impl::warm_push(std::uint32_t a, std::uint32_t b) const {
   if (!settings.warm_start) return 0.0f;
-  // The body with the smaller id keeps the pair's push from last tick.
-  const bool a_owns = sb.id[a] < sb.id[b];
-  const std::uint32_t owner = solver_order[a_owns ? a : b];
-  const std::uint32_t partner = a_owns ? sb.id[b] : sb.id[a];
-  return detail::find_warm_push(&bodies.warm[owner * detail::kWarmSlots], bodies.warm_count[owner], partner);
+  return detail::kept_pair_push(sb.id.data(), solver_order.data(), bodies.warm.data(), bodies.warm_count.data(), a, b);
 }
 
 void World::Impl::setup_pairs() {
@@ -216,27 +206,44 @@ void World::Impl::setup_pairs() {
   if (pairs.capacity() < candidates.size()) pairs.reserve(candidates.size() + candidates.size() / 4);
   pairs.resize(candidates.size());
   warm_pairs = 0;
-  for (std::size_t k = 0; k < candidates.size(); ++k) {
-    const std::uint32_t a = candidates[k].a, b = candidates[k].b;
-    const std::uint32_t da = order[a], db = order[b];
-    detail::SolverPair& p = pairs[k];
-    p.a = a;
-    p.b = b;
-    if (dyn.slow_share) {
+  if (dyn.slow_share) {
+    for (std::size_t k = 0; k < candidates.size(); ++k) {
+      const std::uint32_t a = candidates[k].a, b = candidates[k].b;
       // Pair-dependent terms (facing) need the direction between the bodies.
       double nx = sb.x[b] - sb.x[a], ny = sb.y[b] - sb.y[a];
       const double d = std::sqrt(nx * nx + ny * ny);
       if (d > 0.0) { nx /= d; ny /= d; }
-      p.share_a = pair_share(da, db, nx, ny);
-    } else {
-      p.share_a = params::share_a_fast(bodies.resistance[da], bodies.resistance[db]);
+      const float lambda = warm_push(a, b);
+      pairs[k] = {a, b, pair_target(a, b), pair_share(order[a], order[b], nx, ny), static_cast<double>(lambda), 0.0, 0};
+      warm_pairs += lambda > 0.0f ? 1 : 0;
     }
-    p.target = pair_target(a, b);
-    p.depth_start = 0.0;
-    p.resolved_once = 0;
-    p.lambda = static_cast<double>(warm_push(a, b));
-    warm_pairs += p.lambda > 0.0 ? 1 : 0;
+    return;
   }
+  // Shares from the two resistances: one pass over raw columns (as calls per pair, each reloading
+  // the vectors it reads, this pass was most of setting up a battle's pairs).
+  const detail::CandidatePair* cand = candidates.data();
+  detail::SolverPair* out = pairs.data();
+  const std::uint32_t* ord = order.data();
+  const double* resistance = bodies.resistance.data();
+  const double* r = sb.r.data();
+  const double* z = sb.z.data();
+  const double* hh = sb.hh.data();
+  const std::uint8_t* grounded = sb.grounded.data();
+  const std::uint32_t* id = sb.id.data();
+  const detail::WarmEntry* warm = bodies.warm.data();
+  const std::uint8_t* warm_count = bodies.warm_count.data();
+  const bool warm_start = settings.warm_start;
+  std::uint32_t warm_found = 0;
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    const std::uint32_t a = cand[k].a, b = cand[k].b;
+    const double target = detail::separation_target((grounded[a] & grounded[b]) != 0, r[a] + r[b],
+                                                    std::fabs(z[b] - z[a]) - hh[a] - hh[b]);
+    const float lambda = warm_start ? detail::kept_pair_push(id, ord, warm, warm_count, a, b) : 0.0f;
+    out[k] = {a, b, target, params::share_a_fast(resistance[ord[a]], resistance[ord[b]]), static_cast<double>(lambda),
+              0.0, 0};
+    warm_found += lambda > 0.0f ? 1 : 0;
+  }
+  warm_pairs = warm_found;
 }
 
 bool World::Impl::moved_past_margin() const {
