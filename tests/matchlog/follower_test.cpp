@@ -13,6 +13,7 @@
 #include "throng/matchlog/reader.h"
 #include "throng/matchlog/replay.h"
 #include "throng/matchlog/writer.h"
+#include "throng/world/world.h"
 
 namespace throng::matchlog {
 namespace {
@@ -48,6 +49,25 @@ TEST(MatchFollower, StartedWithThePrimaryFollowsEveryTickWithoutACheckpoint) {
   EXPECT_EQ(f.stats().applied, 150u);
   EXPECT_EQ(f.stats().mismatches, 0u);
   EXPECT_EQ(f.stats().checkpoints, 0u);
+}
+
+// A follower records no push events (nothing reads them) and still follows every tick; one told
+// to keep the logged config's records them, with the same hashes.
+TEST(MatchFollower, RecordsNoPushEventsUnlessAsked) {
+  MatchFollower quiet(match_header());
+  FollowerOptions logged_options;
+  logged_options.resim.logged_push_events = true;
+  MatchFollower logged(match_header(), logged_options);
+  std::size_t logged_events = 0;
+  for (std::uint64_t t = 1; t <= 150; ++t) {
+    quiet.on_tick_entry(entry_of(played().ticks[t - 1]));
+    logged.on_tick_entry(entry_of(played().ticks[t - 1]));
+    ASSERT_EQ(quiet.match().state_hash(), played().ticks[t - 1].state_hash) << "tick " << t;
+    ASSERT_EQ(logged.match().state_hash(), played().ticks[t - 1].state_hash) << "tick " << t;
+    EXPECT_TRUE(quiet.match().world().push_events().empty()) << "tick " << t;
+    logged_events += logged.match().world().push_events().size();
+  }
+  EXPECT_GT(logged_events, 0u);
 }
 
 TEST(MatchFollower, StartedLateAsksForACheckpointAndAppliesWhatItHeld) {

@@ -32,8 +32,9 @@ namespace throng::matchlog {
 struct FollowerOptions {
   // exact_interest: the primary's interest settings and snapshot baselines, so that the follower's
   // snapshots are the primary's byte for byte from a checkpoint saved with baselines on (what a
-  // standby that takes over must publish).
-  ResimOptions resim{.record_push_events = false, .exact_interest = true};
+  // standby that takes over must publish). No push events: nothing reads a follower's, and
+  // recording them costs a square root and the start depths per pushing pair every tick.
+  ResimOptions resim{.record_push_events = false, .exact_interest = true, .logged_push_events = false};
   // Entries held while they cannot be applied yet (no checkpoint covers them, or a tick before them
   // is missing): the newest are kept. 900 is 30 s at 30 Hz, time for a checkpoint to arrive.
   std::size_t max_held_ticks = 900;

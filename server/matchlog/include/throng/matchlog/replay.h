@@ -41,6 +41,11 @@ struct ResimOptions {
   // true: the logged settings and worker threads; keyframes restored whole, so the outbox holds
   // byte for byte the snapshots the server built (throng-replay play).
   bool exact_interest = false;
+  // With exact_interest: true (default), push events as the logged config says; false, none unless
+  // record_push_events (a standby's follower, which reads none: a standby that takes over builds
+  // a new Match from a checkpoint, and push events are no part of one). Without exact_interest
+  // there are none unless record_push_events anyway.
+  bool logged_push_events = true;
 };
 
 class Resimulator {
