@@ -144,6 +144,23 @@ TEST(WorldHardCases, AgentPinnedBetweenWallAndHeavyPusher) {
   EXPECT_NEAR(w.position(heavy).x - w.position(pinned).x, 0.7, 1e-6);
 }
 
+// A body resting on a wall, pushed at 45 degrees by a body of the same weight, takes its half of the
+// push (pinned_share: at most the smaller share): the wall's plane takes back what went into the
+// wall and the rest slides it along the wall. Had it taken nothing (the earlier rule), it would
+// stay where it is and a pocket between pillars that holds one body too many could never open.
+TEST(WorldHardCases, BodyOnAWallGivesWayAlongItToAnEqualPusher) {
+  World w(budget(8), test_table(), weight_policy(params::PushMode::ratio, 10.0));
+  w.add_fixed_box({-1.0, 0.0, 1.0}, {1.0, 5.0, 1.0}, 0.0);  // wall face at x = 0
+  const double c = std::sqrt(0.5);
+  const ObjectId resting = add_sphere(w, 0.35, 0.0, 0.35, "infantry");
+  const ObjectId pusher = add_sphere(w, 0.35 + 0.5 * c, 0.5 * c, 0.35, "infantry");  // 0.2 m deep
+  w.step();
+  const Vec3 a = w.position(resting), b = w.position(pusher);
+  EXPECT_GE(a.x, 0.35 - 1e-9);                 // not in the wall
+  EXPECT_LT(a.y, -0.03);                       // slid along it, away from the pusher
+  EXPECT_GT(distance_xy(a, b), 0.7 - 1e-3);    // and the pair is apart
+}
+
 // A light body caught between two heavy ones that both overlap it: with exact shares (~1 for the
 // light body) every push only moves the light body, so Gauss-Seidel flips it from one heavy body to
 // the other and never converges. The conflict share limit lets later pushes of a pair move the
