@@ -24,8 +24,8 @@ match::MatchConfig replay_config(const LogHeader& h, const ResimOptions& o) {
     c.interest.budget_bytes = 128;
     c.worker_threads = 1;  // not part of any result (match_config.h)
     c.push_events = o.record_push_events;  // nor this
-  } else if (!o.logged_push_events) {
-    c.push_events = o.record_push_events;
+  } else if (o.record_push_events || !o.logged_push_events) {
+    c.push_events = o.record_push_events;  // forced on, or off for a follower
   }
   return c;
 }

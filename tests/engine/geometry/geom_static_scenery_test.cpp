@@ -434,11 +434,35 @@ TEST(GeomScenery, SmallSceneryLoopFindsWhatTheTreeFinds) {
   ASSERT_LE(small.size(), detail::kLinearGatherShapes);
   ASSERT_GT(large.size(), detail::kLinearGatherShapes);
   std::uniform_real_distribution<double> at(-10.0, 10.0), tilt(-0.6, 0.6), radius(0.2, 1.2);
-  std::size_t contacts = 0;
+  std::vector<Capsule> movers;
   for (int q = 0; q < 4000; ++q) {
     const double x = at(rng), y = at(rng), r = radius(rng);
-    const Capsule mover = q % 3 == 0 ? Capsule{{x, y, 0.2}, {x + tilt(rng), y + tilt(rng), 1.6}, r} : upright(x, y, 0.2, 1.6, r);
-    const auto a = query(small, mover), b = query(large, mover);
+    movers.push_back(q % 3 == 0 ? Capsule{{x, y, 0.2}, {x + tilt(rng), y + tilt(rng), 1.6}, r} : upright(x, y, 0.2, 1.6, r));
+  }
+  // Movers whose box grazes a shape's box: a few ulps either side of touching on x and on y, where
+  // a probe box computed other than FCL's would let one more or one fewer candidate through.
+  for (std::uint32_t i = 0; i < small.size(); ++i) {
+    const Aabb box = small.aabb(i);
+    const double r = 0.35;
+    double x = box.hi.x + r, y = box.hi.y + r;
+    for (int k = 0; k < 30; ++k) x = std::nextafter(x, -1e300), y = std::nextafter(y, -1e300);
+    for (int k = 0; k < 60; ++k) {
+      movers.push_back(upright(x, 0.5 * (box.lo.y + box.hi.y), 0.2, 1.6, r));
+      movers.push_back(upright(0.5 * (box.lo.x + box.hi.x), y, 0.2, 1.6, r));
+      x = std::nextafter(x, 1e300);
+      y = std::nextafter(y, 1e300);
+    }
+  }
+  std::size_t contacts = 0, candidates = 0;
+  for (std::size_t q = 0; q < movers.size(); ++q) {
+    const Capsule& mover = movers[q];
+    const auto a = query(small, mover);
+    const std::vector<std::uint32_t> loop_candidates = detail::query_scratch().candidates;
+    const auto b = query(large, mover);
+    // The candidates themselves, not only the contacts (a contact needs depth > 0, so an extra
+    // candidate would not show there).
+    ASSERT_EQ(loop_candidates, detail::query_scratch().candidates) << "query " << q;
+    candidates += loop_candidates.size();
     ASSERT_EQ(a.size(), b.size()) << "query " << q;
     for (std::size_t i = 0; i < a.size(); ++i) {
       EXPECT_EQ(a[i].shape, b[i].shape);
@@ -450,6 +474,7 @@ TEST(GeomScenery, SmallSceneryLoopFindsWhatTheTreeFinds) {
     contacts += a.size();
   }
   EXPECT_GT(contacts, 1000u);  // the movers meet the shapes often, not only the empty floor
+  EXPECT_GT(candidates, contacts);  // and graze some they do not touch
 }
 
 TEST(GeomScenery, AccessorsAndNearTest) {

@@ -130,35 +130,42 @@ TEST(WorldHardCases, WallsFarApartStopBodiesAsWallsCloseTogether) {
   }
 }
 
+// Mirrored (side = -1: the wall on the right): in the solver's order the pinned body is then the
+// pair's second body instead of its first, so both branches of pinned_share are exercised.
 TEST(WorldHardCases, AgentPinnedBetweenWallAndHeavyPusher) {
-  World w(budget(8), test_table(), weight_policy(params::PushMode::ratio, 10.0));  // 200 vs 80 kg: share 1 - 6e-6
-  w.add_fixed_box({-1.0, 0.0, 1.0}, {1.0, 5.0, 1.0}, 0.0);  // wall face at x = 0
-  const ObjectId pinned = add_sphere(w, 0.35, 0.0, 0.35, "infantry");
-  const ObjectId heavy = add_sphere(w, 1.0, 0.0, 0.35, "heavy");
-  for (int t = 0; t < 120; ++t) {
-    w.set_desired_velocity(heavy, {-1.5, 0.0, 0.0});
-    w.step();
-    ASSERT_GE(w.position(pinned).x, 0.35 - 1e-9) << "tick " << t;  // never inside the wall
+  for (const double side : {1.0, -1.0}) {
+    World w(budget(8), test_table(), weight_policy(params::PushMode::ratio, 10.0));  // 200 vs 80 kg: share 1 - 6e-6
+    w.add_fixed_box({-1.0 * side, 0.0, 1.0}, {1.0, 5.0, 1.0}, 0.0);  // wall face at x = 0
+    const ObjectId pinned = add_sphere(w, 0.35 * side, 0.0, 0.35, "infantry");
+    const ObjectId heavy = add_sphere(w, 1.0 * side, 0.0, 0.35, "heavy");
+    for (int t = 0; t < 120; ++t) {
+      w.set_desired_velocity(heavy, {-1.5 * side, 0.0, 0.0});
+      w.step();
+      ASSERT_GE(side * w.position(pinned).x, 0.35 - 1e-9) << "side " << side << " tick " << t;  // never in the wall
+    }
+    // The heavy pusher is stopped by the pinned body, which the wall backs up.
+    EXPECT_NEAR(side * (w.position(heavy).x - w.position(pinned).x), 0.7, 1e-6) << "side " << side;
   }
-  // The heavy pusher is stopped by the pinned body, which the wall backs up.
-  EXPECT_NEAR(w.position(heavy).x - w.position(pinned).x, 0.7, 1e-6);
 }
 
 // A body resting on a wall, pushed at 45 degrees by a body of the same weight, takes its half of the
 // push (pinned_share: at most the smaller share): the wall's plane takes back what went into the
 // wall and the rest slides it along the wall. Had it taken nothing (the earlier rule), it would
 // stay where it is and a pocket between pillars that holds one body too many could never open.
+// Both sides of the wall, as above. With one weight the pinned body's share is exactly a half.
 TEST(WorldHardCases, BodyOnAWallGivesWayAlongItToAnEqualPusher) {
-  World w(budget(8), test_table(), weight_policy(params::PushMode::ratio, 10.0));
-  w.add_fixed_box({-1.0, 0.0, 1.0}, {1.0, 5.0, 1.0}, 0.0);  // wall face at x = 0
-  const double c = std::sqrt(0.5);
-  const ObjectId resting = add_sphere(w, 0.35, 0.0, 0.35, "infantry");
-  const ObjectId pusher = add_sphere(w, 0.35 + 0.5 * c, 0.5 * c, 0.35, "infantry");  // 0.2 m deep
-  w.step();
-  const Vec3 a = w.position(resting), b = w.position(pusher);
-  EXPECT_GE(a.x, 0.35 - 1e-9);                 // not in the wall
-  EXPECT_LT(a.y, -0.03);                       // slid along it, away from the pusher
-  EXPECT_GT(distance_xy(a, b), 0.7 - 1e-3);    // and the pair is apart
+  for (const double side : {1.0, -1.0}) {
+    World w(budget(8), test_table(), weight_policy(params::PushMode::ratio, 10.0));
+    w.add_fixed_box({-1.0 * side, 0.0, 1.0}, {1.0, 5.0, 1.0}, 0.0);  // wall face at x = 0
+    const double c = std::sqrt(0.5);
+    const ObjectId resting = add_sphere(w, 0.35 * side, 0.0, 0.35, "infantry");
+    const ObjectId pusher = add_sphere(w, (0.35 + 0.5 * c) * side, 0.5 * c, 0.35, "infantry");  // 0.2 m deep
+    w.step();
+    const Vec3 a = w.position(resting), b = w.position(pusher);
+    EXPECT_GE(side * a.x, 0.35 - 1e-9) << "side " << side;  // not in the wall
+    EXPECT_LT(a.y, -0.03) << "side " << side;               // slid along it, away from the pusher
+    EXPECT_GT(distance_xy(a, b), 0.7 - 1e-3) << "side " << side;  // and the pair is apart
+  }
 }
 
 // A light body caught between two heavy ones that both overlap it: with exact shares (~1 for the

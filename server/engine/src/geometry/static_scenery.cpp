@@ -127,7 +127,7 @@ std::uint32_t StaticScenery::Impl::add(ShapeKind kind, std::uint32_t slot, const
   r.proxy = std::make_unique<fcl::CollisionObjectd>(proxy_box, proxy_pose);
   const auto index = static_cast<std::uint32_t>(shapes.size());
   r.proxy->setUserData(reinterpret_cast<void*>(static_cast<std::uintptr_t>(index) + 1u));
-  proxy_aabbs.push_back({detail::from_fcl(r.proxy->getAABB().min_), detail::from_fcl(r.proxy->getAABB().max_)});
+  const Aabb proxy_aabb{detail::from_fcl(r.proxy->getAABB().min_), detail::from_fcl(r.proxy->getAABB().max_)};
   if (shapes.empty()) {
     bounds = box;
   } else {
@@ -137,6 +137,7 @@ std::uint32_t StaticScenery::Impl::add(ShapeKind kind, std::uint32_t slot, const
                  std::max(bounds.hi.z, box.hi.z)};
   }
   shapes.push_back(std::move(r));
+  proxy_aabbs.push_back(proxy_aabb);  // after the shape: the loop's indices are always shapes'
   built = false;  // a new shape needs a new broadphase
   return index;
 }
@@ -160,7 +161,7 @@ void StaticScenery::Impl::gather(const Aabb& box, detail::QueryScratch& s) const
     const Vec3 centre = (q.lo + q.hi) * 0.5;
     const Vec3 lo{-half.x + centre.x, -half.y + centre.y, -half.z + centre.z};
     const Vec3 hi{half.x + centre.x, half.y + centre.y, half.z + centre.z};
-    for (std::size_t i = 0; i < proxy_aabbs.size(); ++i) {
+    for (std::size_t i = 0; i < std::min(proxy_aabbs.size(), shapes.size()); ++i) {
       const Aabb& b = proxy_aabbs[i];
       const bool apart = lo.x > b.hi.x || lo.y > b.hi.y || lo.z > b.hi.z || hi.x < b.lo.x || hi.y < b.lo.y || hi.z < b.lo.z;
       if (!apart) s.candidates.push_back(static_cast<std::uint32_t>(i));

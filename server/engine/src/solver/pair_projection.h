@@ -31,7 +31,8 @@ inline void coincident_direction(std::uint32_t id_a, std::uint32_t id_b, double&
 }
 
 // Returns the penetration before the projection (0 if separated), in metres. share_a is passed
-// separately from p.share_a because a body pinned against a fixed plane takes no share this time.
+// separately from p.share_a because a body pinned against a fixed plane takes at most the smaller
+// share (pinned_share in contact_solver.cpp).
 // Always inlined: the general sweep calls it for every pair, and as a call (it outgrew the
 // inliner's budget with the two position representations) the pair-order sweep ran much slower.
 [[gnu::always_inline]] inline double project_pair(const BodyPtrs& b, SolverPair& p, double share_a) {

@@ -261,7 +261,7 @@ struct World::Impl {
 
   // helpers
   void rebuild_scenery_cells(double reach);
-  bool near_scenery(double x, double y) const;
+  inline bool near_scenery(double x, double y) const;  // defined (inline) in world_scenery.cpp, its only user
   double cell0_size(double search_margin);
   double pair_share(std::uint32_t dense_a, std::uint32_t dense_b, double nx, double ny) const;
 };

@@ -326,7 +326,8 @@ void World::Impl::take_list_pairs() {
       k += live ? 1 : 0;
     }
     if constexpr (kFresh) {
-      // warm_push's lookup, inline (a call per entry cost more than the lookups).
+      // warm_push's lookup, inline (a call per entry cost more than the lookups); a list is kept
+      // only with warm start on (pair_list_eligible), so warm_push's check is not needed here.
       const std::uint32_t* id = sb.id.data();
       const std::uint32_t* order = solver_order.data();
       const detail::WarmEntry* warm_slots = bodies.warm.data();

@@ -24,8 +24,9 @@ namespace throng::matchlog {
 struct ResimOptions {
   // Force WorldSettings::record_push_events on (export, the viewer's contacts overlay). The state
   // hash does not depend on it (push events steer nothing), and every step's hash is checked
-  // anyway. Left false, the events are recorded as the log's settings say with exact_interest,
-  // and not at all without it: nothing of such a replay reads them (MatchConfig::push_events).
+  // anyway. Left false, the events are recorded as the log's settings say with exact_interest
+  // (unless logged_push_events is false), and not at all without it: nothing of such a replay
+  // reads them (MatchConfig::push_events).
   bool record_push_events = false;
   // false (default): replay with a 1 cm interest radius, the smallest snapshot budget and one
   // snapshot thread. The interest settings only shape snapshot content, which is not part of the
