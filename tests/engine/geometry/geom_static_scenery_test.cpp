@@ -12,10 +12,9 @@
 
 #include <cmath>
 #include <iostream>
+#include <random>
 #include <stdexcept>
 #include <string>
-
-#include <random>
 
 #include "geometry/scenery_impl.h"
 #include "throng/geometry/static_scenery.h"

@@ -161,7 +161,7 @@ void StaticScenery::Impl::gather(const Aabb& box, detail::QueryScratch& s) const
     const Vec3 centre = (q.lo + q.hi) * 0.5;
     const Vec3 lo{-half.x + centre.x, -half.y + centre.y, -half.z + centre.z};
     const Vec3 hi{half.x + centre.x, half.y + centre.y, half.z + centre.z};
-    for (std::size_t i = 0; i < std::min(proxy_aabbs.size(), shapes.size()); ++i) {
+    for (std::size_t i = 0; i < proxy_aabbs.size(); ++i) {  // never longer than shapes (add)
       const Aabb& b = proxy_aabbs[i];
       const bool apart = lo.x > b.hi.x || lo.y > b.hi.y || lo.z > b.hi.z || hi.x < b.lo.x || hi.y < b.lo.y || hi.z < b.lo.z;
       if (!apart) s.candidates.push_back(static_cast<std::uint32_t>(i));
