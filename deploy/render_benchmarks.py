@@ -112,8 +112,8 @@ def threads_section(threads):
 def worst_section(worst):
     out = ["## The worst tick\n",
            "`deploy/measure-worst-tick.sh 5000 20000`, K = 8; the independent metric after every tick from tick 61 to 300. `crush_post` and `crush_pillars` are "
-           "`server/engine/data/scenes/crush_post.json` and `crush_pillars.json` (the crush with a fixed post at its goal, and "
-           "with eight pillars around it); `mixed` is the mixed crowd with the built-in weights; each with "
+           "`server/engine/data/scenes/crush_post.json` and `crush_pillars.json` (the crush with a fixed post of radius 0.5 m at "
+           "its goal, and with eight such pillars on a 3 m ring around it, the same at every N: only the crowd scales); `mixed` is the mixed crowd with the built-in weights; each with "
            "`blocked_motion_carry` at its default and at 0.\n",
            "| scene | N | carry | worst max / r | worst p99 / r | ticks over 0.5 r | median µs | p95 µs |",
            "|---|---|---|---|---|---|---|---|"]

@@ -124,6 +124,9 @@ TEST(SceneJsonErrors, UnknownKindsAndWrongTypes) {
   doc = valid_scene();
   doc["spawns"] = {{"count", 1}};
   expect_error(doc, "spawns", "must be an array");
+  doc = valid_scene();
+  doc["scale_scenery"] = 0;
+  expect_error(doc, "scale_scenery", "true or false");
 }
 
 TEST(SceneJsonErrors, SettingsOutOfRange) {

@@ -57,6 +57,8 @@ TEST(SceneRoundTrip, InlineAndOptionalFieldsSurvive) {
   s.settings.iterations = 3;
   s.settings.warm_start = false;
   EXPECT_EQ(through_text(s), s);
+  s.scale_scenery = false;  // written only when false: it must come back
+  EXPECT_EQ(through_text(s), s);
 }
 
 TEST(SceneRoundTrip, UnknownBuiltinListsTheKnownOnes) {

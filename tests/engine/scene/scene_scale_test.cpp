@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
 #include "throng/scene/builtin_scenes.h"
 #include "throng/scene/scale.h"
@@ -55,6 +56,24 @@ TEST(SceneScale, LayoutScalesButBodiesDoNot) {
   // Shrinking never makes walls paper-thin.
   const SceneDef small = scale_scene(base, base.agent_count() / 100);
   EXPECT_GE(small.scenery[0].half_extents_m.y, std::min(base.scenery[0].half_extents_m.y, kMinScaledScenery_m));
+}
+
+// crush_post and crush_pillars say "scale_scenery": false: at any N the post is the 0.5 m one at
+// the goal and the pillars stand 3 m out, where the jam meets them; only the crowd scales.
+TEST(SceneScale, ScenerySaidToStayIsNotScaled) {
+  for (const char* file : {"crush_post.json", "crush_pillars.json"}) {
+    const SceneDef base = load_scene(std::string(THRONG_SOURCE_DIR) + "/server/engine/data/scenes/" + file);
+    ASSERT_FALSE(base.scale_scenery) << file;
+    const SceneDef small = scale_scene(base, base.agent_count() / 4);  // s = 1/2
+    EXPECT_EQ(small.scenery, base.scenery) << file;
+    EXPECT_EQ(small.scenery[0].radius_m, 0.5) << file;
+    EXPECT_DOUBLE_EQ(small.spawns[0].shape.radius_m, 0.5 * base.spawns[0].shape.radius_m) << file;
+    EXPECT_EQ(small.agent_count(), base.agent_count() / 4) << file;
+  }
+  // The same scene with the default scales its scenery with the crowd.
+  SceneDef map = load_scene(std::string(THRONG_SOURCE_DIR) + "/server/engine/data/scenes/crush_post.json");
+  map.scale_scenery = true;
+  EXPECT_EQ(scale_scene(map, map.agent_count() / 4).scenery[0].radius_m, 0.25);
 }
 
 TEST(SceneScale, LineKeepsItsSpacing) {

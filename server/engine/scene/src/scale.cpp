@@ -76,7 +76,9 @@ SceneDef scale_scene(const SceneDef& scene, std::uint64_t agents) {
     scale_shape(g.shape, s);
     g.behavior.target = scaled(g.behavior.target, s);
   }
-  for (auto& x : out.scenery) scale_scenery(x, s);
+  if (scene.scale_scenery) {
+    for (auto& x : out.scenery) scale_scenery(x, s);
+  }
   return out;
 }
 

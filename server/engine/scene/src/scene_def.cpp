@@ -21,6 +21,7 @@ bool settings_equal(const WorldSettings& a, const WorldSettings& b) {
 
 bool SceneDef::operator==(const SceneDef& o) const {
   return name == o.name && description == o.description && ticks == o.ticks && seed == o.seed &&
+         scale_scenery == o.scale_scenery &&
          settings_equal(settings, o.settings) && params == o.params && policy == o.policy && scenery == o.scenery &&
          spawns == o.spawns;
 }

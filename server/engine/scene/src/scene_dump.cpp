@@ -135,6 +135,8 @@ Json scene_to_json(const SceneDef& s) {
                       {"settings", settings(s.settings)},
                       {"params", source(s.params)},
                       {"policy", source(s.policy)}};
+  // Written only when it differs from the default: the dumps of the built-ins stay as they were.
+  if (!s.scale_scenery) j["scale_scenery"] = false;
   j["scenery"] = Json::array();
   for (const auto& x : s.scenery) j["scenery"].push_back(scenery(x));
   j["spawns"] = Json::array();

@@ -265,6 +265,7 @@ SceneDef scene_from_json(const nlohmann::json& doc, const std::string& base_dir)
   s.description = r.string("description", "");
   s.ticks = r.integer("ticks", s.ticks, 100'000'000);
   s.seed = r.integer("seed", s.seed, std::numeric_limits<std::uint64_t>::max());
+  s.scale_scenery = r.boolean("scale_scenery", s.scale_scenery);
   if (const auto* j = r.raw("settings")) s.settings = read_settings(*j, "settings");
   s.params = read_source(r.raw("params"), "params", base_dir);
   s.policy = read_source(r.raw("policy"), "policy", base_dir);

@@ -7,6 +7,10 @@
 // vertices, targets. Body sizes, heights and speeds are unchanged, so bodies per m^2 stay the
 // same: it is the same map seen at a different zoom.
 //
+// A scene with "scale_scenery": false keeps its scenery as written: its obstacles are objects of
+// a given size where the crowd meets them (a 0.5 m post at the goal), and scaling them would make
+// a different scene (a 0.25 m post; pillars too close for a body to pass between).
+//
 // Two exceptions, both so that scaling does not change the physics of the scene:
 //  - line shapes (1D ranks) keep their spacing: their length scales by s^2 (their midpoint by s).
 //  - a box half extent or cylinder radius never shrinks below min(original, 0.25 m): a 0.5 m

@@ -116,6 +116,10 @@ struct SceneDef {
   std::string description;
   std::uint64_t ticks = 300;   // default run length (the bench's --ticks overrides)
   std::uint64_t seed = 1;      // spawn placement RNG
+  // Whether --agents (scale_scene) scales the scenery with the crowd's area. false: the scenery
+  // stays as written and only the spawns scale, for scenes whose obstacles are objects of a given
+  // size where the crowd meets them (a post at the goal) rather than a map.
+  bool scale_scenery = true;
   WorldSettings settings;
   DocumentSource params;       // parameter table
   DocumentSource policy;       // push policy

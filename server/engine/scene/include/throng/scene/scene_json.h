@@ -12,6 +12,8 @@
 //   "name": "street", "description": "two armies meet in a walled street",
 //   "ticks": 300,                      // default run length
 //   "seed": 1,                         // spawn placement RNG (mt19937_64; same seed = same scene)
+//   "scale_scenery": true,             // --agents scales the scenery with the crowd (a map);
+//                                      //   false: the scenery stays as written (a post at the goal)
 //   "settings": {                      // WorldSettings: same names, units and ranges; the list
 //                                      //   is src/world/settings_fields.h
 //     "dt_s": 0.016666666666666666, "iterations": 8, "contact_margin_m": 0.05,
