@@ -197,6 +197,21 @@ void NpcAi::compute_centroids(std::span<const double> xs, std::span<const double
   }
 }
 
+// The grid's per-cell arrays at the size of the largest grid (kMaxCells per faction slot), made
+// once: sized to each tick's grid they grew as a battle spread out (routed troops flee outwards)
+// and reallocated in the tick for a quarter of an hour, and the server's resident memory grew with
+// them. Written whole here, so their pages are the process's from the first tick.
+void NpcAi::size_grid_for_max_cells() {
+  const auto cells = static_cast<std::size_t>(kMaxCells);
+  const std::size_t per_slot = slot_faction_.size() * cells;
+  if (start_.size() >= per_slot + 1) return;
+  start_.assign(per_slot + 1, 0u);
+  cursor_.assign(per_slot, 0u);
+  window_.assign(cells, 0u);
+  near_.assign(per_slot, 0);
+  enemy_near_.assign(per_slot, 0);
+}
+
 void NpcAi::build_grid(std::span<const double> xs, std::span<const double> ys) {
   const std::size_t n = xs.size();
   double min_x = std::numeric_limits<double>::infinity(), min_y = min_x;
@@ -225,7 +240,8 @@ void NpcAi::build_grid(std::span<const double> xs, std::span<const double> ys) {
   ncells_ = nx_ * ny_;
   rings_ = static_cast<std::uint32_t>(std::ceil(settings_.engage_radius_m / cell));
   const std::size_t total = slot_faction_.size() * ncells_;
-  start_.assign(total + 1, 0u);
+  size_grid_for_max_cells();
+  std::fill(start_.begin(), start_.begin() + static_cast<std::ptrdiff_t>(total + 1), 0u);
   for (std::size_t i = 0; i < n; ++i) {
     const auto ix = std::min(nx_ - 1, static_cast<std::uint32_t>((xs[i] - min_x) * inv_cell_));
     const auto iy = std::min(ny_ - 1, static_cast<std::uint32_t>((ys[i] - min_y) * inv_cell_));
@@ -234,7 +250,7 @@ void NpcAi::build_grid(std::span<const double> xs, std::span<const double> ys) {
     ++start_[fslot_[i] * ncells_ + c + 1];
   }
   for (std::size_t k = 0; k < total; ++k) start_[k + 1] += start_[k];
-  cursor_.assign(start_.begin(), start_.end() - 1);
+  std::copy(start_.begin(), start_.begin() + static_cast<std::ptrdiff_t>(total), cursor_.begin());
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint32_t pos = cursor_[fslot_[i] * ncells_ + body_cell_[i]]++;
     ex_[pos] = xs[i];
@@ -246,8 +262,6 @@ void NpcAi::build_grid(std::span<const double> xs, std::span<const double> ys) {
 void NpcAi::dilate() {
   const std::size_t nslots = slot_faction_.size();
   const std::uint32_t nx = nx_, ny = ny_, r = rings_;
-  window_.resize(ncells_);
-  near_.resize(nslots * ncells_);
   for (std::size_t s = 0; s < nslots; ++s) {
     const std::uint32_t* st = start_.data() + s * ncells_;
     // Rows: how many occupied cells within r columns.
@@ -275,7 +289,7 @@ void NpcAi::dilate() {
       }
     }
   }
-  enemy_near_.assign(nslots * ncells_, 0);
+  std::fill(enemy_near_.begin(), enemy_near_.begin() + static_cast<std::ptrdiff_t>(nslots * ncells_), std::uint8_t{0});
   for (std::size_t s = 0; s < nslots; ++s) {
     std::uint8_t* out = enemy_near_.data() + s * ncells_;
     for (std::uint32_t t : enemy_slots_[s]) {

@@ -135,6 +135,7 @@ class NpcAi {
   std::uint32_t group_index(std::uint8_t faction, std::uint32_t group_id, double x, double y);
   void rebuild_enemy_slots();
   void compute_centroids(std::span<const double> xs, std::span<const double> ys, std::span<const std::uint32_t> controlled);
+  void size_grid_for_max_cells();
   void build_grid(std::span<const double> xs, std::span<const double> ys);
   void dilate();
   void update_groups(const World& world);
