@@ -9,7 +9,8 @@
 # The server writes its match log (keyframes included), as it does by default.
 # Run it on a quiet machine (no build running): timings measure the machine as much as the code.
 # Knobs (environment): BUILD (default build/release), DOMAIN (default 61), MATCH_S, LOAD_S,
-# RAMP_START, RAMP_STEP, RAMP_MAX, SKIP (comma-separated: match,load,ramp).
+# RAMP_START, RAMP_STEP, RAMP_MAX, SKIP (comma-separated: match,load,ramp), SERVER_ARGS (more
+# throng-server flags for the match and load runs, e.g. "--scene FILE" to compare settings).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${BUILD:-build/release}
@@ -31,7 +32,7 @@ run_match() {
   local name=$1 npcs=$2 bots=$3 secs=$4
   shift 4
   "$BUILD/bin/throng-server" --domain "$DOMAIN" --npcs "$npcs" --duration $((secs + 40)) --admin-port -1 \
-    --log "$out/$name.tlog" --summary-json "$out/$name-server.json" >"$out/$name-server.txt" 2>"$out/$name-server.log" &
+    --log "$out/$name.tlog" --summary-json "$out/$name-server.json" ${SERVER_ARGS:-} >"$out/$name-server.txt" 2>"$out/$name-server.log" &
   local spid=$!
   "$BUILD/bin/throng-bots" --domain "$DOMAIN" --clients "$bots" --duration "$secs" --quiet \
     --json "$out/$name-bots.json" "$@" >"$out/$name-bots.txt" 2>"$out/$name-bots.log" || true
