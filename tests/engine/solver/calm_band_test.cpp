@@ -65,7 +65,7 @@ std::vector<float> scheduled_solve(const SolverBodies& bodies, const std::vector
     for (std::size_t c = 0; c < s.band_count(); ++c) s.band_wake_lo[c] = s.band_wake_hi[c] = static_cast<std::uint32_t>(c);
   }
   const std::vector<SolverPlane> no_planes;
-  result = solve_contacts(b, p, no_planes, sweeps, 0.0, 0.25, s, true);
+  result = solve_contacts(b, p, no_planes, sweeps, 0, 0.0, 0.25, s, true);
   return b.u;
 }
 
@@ -237,7 +237,7 @@ TEST(CalmBands, EmptyAndSingleBandSchedules) {
     PairSchedule s;
     build_pair_schedule(bodies, pairs, 0.25, s);
     EXPECT_EQ(s.band_count(), 0u);
-    const SolveResult r = solve_contacts(bodies, pairs, no_planes, 8, 0.0, 0.25, s, true);
+    const SolveResult r = solve_contacts(bodies, pairs, no_planes, 8, 0, 0.0, 0.25, s, true);
     EXPECT_EQ(r.band_sweeps, 0u);
     EXPECT_EQ(r.max_pen_over_radius, 0.0);
   }
@@ -255,7 +255,7 @@ TEST(CalmBands, EmptyAndSingleBandSchedules) {
     ASSERT_EQ(s.band_count(), 1u);
     EXPECT_EQ(s.band_wake_lo[0], 0u);
     EXPECT_EQ(s.band_wake_hi[0], 0u);
-    const SolveResult r = solve_contacts(bodies, pairs, no_planes, 500, 0.0, 0.25, s, true);
+    const SolveResult r = solve_contacts(bodies, pairs, no_planes, 500, 0, 0.0, 0.25, s, true);
     // The line spreads out (it is free at both ends) until no sweep changes a push by 1e-3 r,
     // long before the budget; the ends move out by about half the 0.7 m of overlap each.
     EXPECT_LT(r.iterations_used, 500u);

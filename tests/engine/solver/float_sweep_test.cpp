@@ -152,7 +152,7 @@ TEST(FloatSweep, ScheduledSolveAgreesWithTheDoubleSolveToFloatRounding) {
                                                      [](std::uint32_t k) { return k != PairSchedule::kNoPair; })),
               fast.pairs.size());
     apply_warm_start(fast.bodies, fast.pairs, no_planes, schedule, 0.0);
-    const SolveResult rf = solve_contacts(fast.bodies, fast.pairs, no_planes, 8, 0.0, 0.0, schedule, true);
+    const SolveResult rf = solve_contacts(fast.bodies, fast.pairs, no_planes, 8, 0, 0.0, 0.0, schedule, true);
     write_back_pair_schedule(schedule, fast.pairs);
 
     double worst = 0.0, moved = 0.0;

@@ -129,7 +129,7 @@ Solved solve_with(const Crowd& crowd, unsigned threads) {
   const std::vector<SolverPlane> no_planes;
   apply_warm_start(b, p, no_planes, s, 0.25, pool.get());
   Solved out;
-  out.result = solve_contacts(b, p, no_planes, 8, 0.0, 0.25, s, true, pool.get());
+  out.result = solve_contacts(b, p, no_planes, 8, 0, 0.0, 0.25, s, true, pool.get());
   out.u = b.u;
   out.lambda = s.lambda;
   for (const std::uint32_t k : s.slow) out.slow_lambda.push_back(p[k].lambda);

@@ -47,13 +47,14 @@ TEST(WorstTick, CrowdOnAPostStaysApartInEveryTick) {
   EXPECT_LT(w.p99_over_r, 0.05);
 }
 
-// The scene keeps its pillars as written at any N ("scale_scenery": false). 8,000 bodies over 160
-// ticks hold the bound; 5,000 over 300 ticks at carry 0 do not yet (the pillars are then a larger
-// share of the crowd's contacts: docs/design/solver.md, "Not done yet").
+// The scene keeps its pillars as written at any N ("scale_scenery": false), so at 5,000 bodies the
+// jams against them are a large share of the crowd. Eight sweeps left them at 0.30 r worst and
+// 0.056 r p99 here; the sweeps the solve adds while a pair is deep (extra_iterations) bring them
+// inside the bound.
 TEST(WorstTick, CrowdAmongPillarsStaysApartInEveryTick) {
-  const Worst w = worst_tick(std::string(THRONG_SOURCE_DIR) + "/server/engine/data/scenes/crush_pillars.json", 8000, 160, 61);
-  std::printf("crush_pillars 8,000, carry 0: worst tick %d max %.3f r, worst p99 %.3f r\n", w.tick, w.max_over_r, w.p99_over_r);
-  EXPECT_LT(w.max_over_r, 0.3);
+  const Worst w = worst_tick(std::string(THRONG_SOURCE_DIR) + "/server/engine/data/scenes/crush_pillars.json", 5000, 300, 61);
+  std::printf("crush_pillars 5,000, carry 0: worst tick %d max %.3f r, worst p99 %.3f r\n", w.tick, w.max_over_r, w.p99_over_r);
+  EXPECT_LT(w.max_over_r, 0.25);
   EXPECT_LT(w.p99_over_r, 0.05);
 }
 

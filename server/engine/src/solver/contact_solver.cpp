@@ -158,8 +158,8 @@ void measure_start_depths(const SolverBodies& b, std::vector<SolverPair>& pairs,
 }
 
 SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
-                           std::uint32_t iterations, double converged, double conflict_limit, PairSchedule& schedule,
-                           bool scheduled, WorkerPool* pool) {
+                           std::uint32_t iterations, std::uint32_t extra_iterations, double converged,
+                           double conflict_limit, PairSchedule& schedule, bool scheduled, WorkerPool* pool) {
   SolveResult result;
   if (scheduled) bodies.ensure_pad_slots(schedule.band_count());
   const BodyPtrs b(bodies);
@@ -243,7 +243,8 @@ SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs,
     schedule.band_swept.resize(nb);
     std::fill(schedule.band_swept.begin(), schedule.band_swept.end(), std::uint8_t{1});
   }
-  for (std::uint32_t it = 0; it < iterations; ++it) {
+  const std::uint32_t most = iterations + extra_iterations;
+  for (std::uint32_t it = 0; it < most; ++it) {
     worst = 0.0;
     if (skip_calm && it >= kFullSweeps) {
       // Every band calm: a sweep would change no push by `calm` or more anywhere. The solve stops
@@ -259,6 +260,9 @@ SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs,
     if (!scheduled && it % 2 == 0) for (SolverPair& p : pairs) project_slow(p, worst);
     else if (!scheduled) for (std::size_t k = pairs.size(); k > 0; --k) project_slow(pairs[k - 1], worst);
     else sweep_scheduled(it % 2 == 0);
+    // The deepest pair this sweep met, before the planes: a plane's depth is only what the pairs
+    // pushed a body into its wall in this sweep, and the planes take it all back below.
+    const double deepest_pair = worst;
     // Fixed bodies last in every sweep: they always win, and the final state honours them exactly.
     for (std::size_t i = 0; any_planes && i < bodies.size(); ++i) {
       if (bodies.plane_count[i] == 0) continue;
@@ -268,6 +272,7 @@ SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs,
     result.iterations_used = it + 1;
     result.max_pen_over_radius = worst;
     if (worst <= converged) break;
+    if (it + 1 >= iterations && deepest_pair <= kDeepPairOverRadius) break;
   }
   return result;
 }

@@ -93,7 +93,8 @@ inline double fast_pair_start_depth(const SolverBodies& bodies, const PairSchedu
 // pairs' are in `pairs`. With a pool, the blocks of a phase are shared among its threads: the same
 // bits as without one, for any number of threads.
 SolveResult solve_contacts(SolverBodies& bodies, std::vector<SolverPair>& pairs, const std::vector<SolverPlane>& planes,
-                           std::uint32_t iterations, double converged_pen_over_radius, double conflict_share_limit,
-                           PairSchedule& schedule, bool scheduled, WorkerPool* pool = nullptr);
+                           std::uint32_t iterations, std::uint32_t extra_iterations, double converged_pen_over_radius,
+                           double conflict_share_limit, PairSchedule& schedule, bool scheduled,
+                           WorkerPool* pool = nullptr);
 
 }  // namespace throng::detail

@@ -46,6 +46,7 @@ inline constexpr std::array kSettingFields{
     real("cell_size_m", &WorldSettings::cell_size_m, 0.0, 1000.0),
     real("morale_radius_m", &WorldSettings::morale_radius_m, 0.1, 1000.0),
     whole("morale_refresh_ticks", &WorldSettings::morale_refresh_ticks, 1, 3600),
+    whole("extra_iterations", &WorldSettings::extra_iterations, 0, 256),
 };
 
 }  // namespace throng::detail

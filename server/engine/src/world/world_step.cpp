@@ -282,7 +282,7 @@ void World::Impl::solve(bool apply_warm_start) {
     if (scheduled) detail::apply_warm_start(sb, pairs, planes, pair_schedule, conflict_limit, pool.get());
     else detail::apply_warm_start(sb, pairs, planes, conflict_limit);
   }
-  const detail::SolveResult r = detail::solve_contacts(sb, pairs, planes, settings.iterations,
+  const detail::SolveResult r = detail::solve_contacts(sb, pairs, planes, settings.iterations, settings.extra_iterations,
                                                        settings.converged_pen_over_radius, conflict_limit,
                                                        pair_schedule, scheduled, pool.get());
   // The tick's solver figures are its first solve's (a second one is counted in second_search).

@@ -9,6 +9,14 @@ namespace throng {
 struct WorldSettings {
   double dt_s = 1.0 / 60.0;              // fixed tick length [1e-4, 1]
   std::uint32_t iterations = 8;          // solver iteration budget per tick [1, 256]
+  // Sweeps the solve may add to `iterations` while its last sweep met a pair deeper than a tenth of
+  // the smaller radius (kDeepPairOverRadius, solver/pair_schedule.h). Why: a jam pressed against a
+  // fixed body needs its pressure carried through many bodies to the fixed one, and at full speed
+  // into the jam (blocked_motion_carry 0) `iterations` sweeps left single pairs a quarter of a
+  // radius deep near posts and pillars; more sweeps everywhere would cost every crowd, while deep
+  // pairs are rare elsewhere (a packed crush adds a few hundredths of a sweep a tick on average).
+  // Bounds the solve at iterations + extra_iterations sweeps. 0 = off. [0, 256]
+  std::uint32_t extra_iterations = 16;
   // Pairs closer than r_a + r_b + margin are kept as contact candidates for the whole tick, so that
   // contacts created by pushes during the iterations are still seen. [0, 10] m
   double contact_margin_m = 0.05;

@@ -19,7 +19,7 @@
 //     "dt_s": 0.016666666666666666, "iterations": 8, "contact_margin_m": 0.05,
 //     "pair_list_skin_m": 0.1, "converged_pen_over_radius": 0.0001, "record_push_events": true, "warm_start": true,
 //     "blocked_motion_carry": 0.9, "max_candidates_per_body": 48, "cell_size_m": 0,
-//     "morale_radius_m": 5, "morale_refresh_ticks": 15 },
+//     "morale_radius_m": 5, "morale_refresh_ticks": 15, "extra_iterations": 16 },
 //   "params": "params.json",           // parameter table: file (relative to this file), inline
 //   "policy": { ... },                 //   object, or absent/null for builtin_params.h; same for
 //                                      //   the push policy (formats: server/engine/data/FORMATS.md)
