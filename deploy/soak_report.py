@@ -82,6 +82,17 @@ def main():
           f"{p99_s / 60:.3g} min {p99_first:.2f}/{p99_last:.2f} ms ({p99_change * 100:+.1f}%, target at most +10%) | "
           f"snapshot gaps {gaps} (target 0) | log {'verifies' if verify_ok else 'DOES NOT VERIFY'} | "
           f"{os.path.join(out, 'soak.csv')}, soak.svg")
+    # Not part of the verdict: the RSS of samples taken with the same number of clients present
+    # (the waves make it swing by their snapshot state), first and last after the baseline, so a
+    # reader can tell growth over time from who happened to be connected at the two samples.
+    by_clients = {}
+    for r in rss:
+        if r["t_s"] >= base_s and r.get("clients") is not None:
+            by_clients.setdefault(r["clients"], []).append(r["rss_kb"])
+    parts = [f"{c:g} clients {v[0] / 1e3:.1f} -> {v[-1] / 1e3:.1f} MB ({(v[-1] / v[0] - 1.0) * 100:+.2f}%, {len(v)} samples)"
+             for c, v in sorted(by_clients.items()) if len(v) >= 2]
+    if parts:
+        print("soak: RSS after " + f"{base_s / 60:.3g} min by clients present: " + "; ".join(parts))
     sys.exit(0 if ok else 1)
 
 
