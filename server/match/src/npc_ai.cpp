@@ -198,9 +198,10 @@ void NpcAi::compute_centroids(std::span<const double> xs, std::span<const double
 }
 
 // The grid's per-cell arrays at the size of the largest grid (kMaxCells per faction slot), made
-// once: sized to each tick's grid they grew as a battle spread out (routed troops flee outwards)
-// and reallocated in the tick for a quarter of an hour, and the server's resident memory grew with
-// them. Written whole here, so their pages are the process's from the first tick.
+// on the first tick and again only if an operator moves a body to a faction the match had not had
+// (a new slot): sized to each tick's grid they grew as a battle spread out (routed troops flee
+// outwards) and reallocated in the tick for a quarter of an hour, and the server's resident memory
+// grew with them. Written whole here, so their pages are the process's from the first tick.
 void NpcAi::size_grid_for_max_cells() {
   const auto cells = static_cast<std::size_t>(kMaxCells);
   const std::size_t per_slot = slot_faction_.size() * cells;

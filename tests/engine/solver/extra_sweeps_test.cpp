@@ -93,5 +93,22 @@ TEST(ExtraSweeps, AShallowRowGetsNoneAndTheSameBits) {
   EXPECT_EQ(std::memcmp(a.bodies.x.data(), b.bodies.x.data(), a.bodies.size() * sizeof(double)), 0);
 }
 
+// A body deep in a fixed plane, its pairs shallow: the plane's depth is reported, but only pairs
+// ask for more sweeps (the planes take back what a sweep pushed into them). With one sweep as the
+// budget, a rule that counted planes would sweep again.
+TEST(ExtraSweeps, ADeepPlaneAloneAddsNone) {
+  Row row = squeezed_row(3, 0.05);
+  // Body 0 stands 0.2 m (0.4 r) on the wrong side of the plane -x >= 0.2, which pushes it away
+  // from the row.
+  row.bodies.plane_begin[0] = 0;
+  row.bodies.plane_count[0] = 1;
+  const std::vector<SolverPlane> planes{{-1.0, 0.0, 0.0, 0.2, 0.0, 1.0, 0, ObjectId{}}};
+  PairSchedule unused;
+  const SolveResult r = solve_contacts(row.bodies, row.pairs, planes, 1, 16, 0.0, 0.25, unused, false);
+  EXPECT_GT(r.max_pen_over_radius, 0.3);  // the plane's depth, met in the one sweep
+  EXPECT_EQ(r.iterations_used, 1u);
+  EXPECT_LE(row.bodies.x[0], -0.2 + 1e-12);  // and projected out
+}
+
 }  // namespace
 }  // namespace throng::detail

@@ -58,7 +58,7 @@ TEST(WorldHardCases, TenThousandAgentsStartedAtOnePoint) {
   for (int t = 0; t < 30; ++t) {
     const StepStats& st = w.step();
     EXPECT_EQ(st.pile_relief_bodies, 0u);
-    ASSERT_LE(st.iterations_used, 8u);
+    ASSERT_LE(st.iterations_used, s.iterations + s.extra_iterations);
     max_pairs = std::max(max_pairs, st.candidate_pairs);
   }
   // Linear cost: a packed crowd has about three candidate pairs per body (half of six neighbours).

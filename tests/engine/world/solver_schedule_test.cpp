@@ -40,9 +40,10 @@ void expect_restored_agrees(const std::string& name, std::uint64_t agents, int t
     b.driver.apply(b.world);
     const StepStats sa = a.world.step();
     b.world.step();
-    // The case under test: contact-heavy ticks that use the whole budget (no early exit), with
-    // more pairs than one band, solved in bands.
-    ASSERT_EQ(sa.iterations_used, def.settings.iterations) << name;
+    // The case under test: contact-heavy ticks that use the whole budget (no early exit; a deep
+    // pair may add sweeps), with more pairs than one band, solved in bands.
+    ASSERT_GE(sa.iterations_used, def.settings.iterations) << name;
+    ASSERT_LE(sa.iterations_used, def.settings.iterations + def.settings.extra_iterations) << name;
     ASSERT_GT(sa.candidate_pairs, detail::kScheduleChunkPairs) << name;
     ASSERT_GT(sa.band_sweeps, 0u) << name;
     ASSERT_EQ(a.world.state_hash(), b.world.state_hash()) << name << ", tick " << a.world.tick();

@@ -287,6 +287,13 @@ TEST(WorldCheckpoint, ConfigHashOfFixedSettingsIsPinned) {
   std::vector<std::uint8_t> changed_saved;
   changed.save_state(changed_saved);
   EXPECT_NE(std::memcmp(saved.data() + 8, changed_saved.data() + 8, 8), 0) << "a setting must change the hash";
+  // The last row too: a log of a match without extra sweeps must not restore into one with them.
+  WorldSettings no_extra = pinned_settings();
+  no_extra.extra_iterations = 0;
+  World without(no_extra, scene::load_param_table({}), scene::load_push_policy({}));
+  std::vector<std::uint8_t> without_saved;
+  without.save_state(without_saved);
+  EXPECT_NE(std::memcmp(saved.data() + 8, without_saved.data() + 8, 8), 0) << "extra_iterations must change the hash";
 }
 
 TEST(WorldCheckpoint, SaveReusesAWarmBuffer) {

@@ -73,7 +73,7 @@ inline constexpr double kWarmStartMoveCapOverRadius = 0.1;
 // The solve adds sweeps (WorldSettings::extra_iterations) while the deepest pair its last sweep
 // met was deeper than this fraction of the pair's smaller radius: well under the quarter radius a
 // tick may leave at worst, so the sweeps it adds bring such ticks inside it (0.08 did as well at
-// more sweeps; the figures are in docs/design/solver.md, "Extra sweeps for deep pairs").
+// more sweeps; the figures are in docs/design/solver.md, "Extra sweeps while a pair is deep").
 inline constexpr double kDeepPairOverRadius = 0.1;
 
 // A pair held together by its neighbours (a jam), not by its own bodies' steps, starts its tick

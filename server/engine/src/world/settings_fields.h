@@ -1,9 +1,10 @@
 #pragma once
 // The WorldSettings fields with their valid ranges, one row each: WorldSettings::validate() checks
 // them, and the scene parser, writer and SceneDef::operator== (a scene file can set each one)
-// read and write them. A new setting is one line here, in world_settings.h order. The rows' order
-// also feeds the world checkpoint's config hash (World::Impl::config_hash): reordering rows makes
-// earlier checkpoints and match logs unreadable (WorldCheckpoint.ConfigHashOfDefaultSettingsIsPinned).
+// read and write them. A new setting is one line here, at the end of the table (extra_iterations is
+// declared beside iterations, but its row came last). The rows' order feeds the world
+// checkpoint's config hash (World::Impl::config_hash): reordering rows makes earlier checkpoints
+// and match logs unreadable (WorldCheckpoint.ConfigHashOfFixedSettingsIsPinned).
 #include <array>
 #include <cstdint>
 

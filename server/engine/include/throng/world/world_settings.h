@@ -14,7 +14,7 @@ struct WorldSettings {
   // fixed body needs its pressure carried through many bodies to the fixed one, and at full speed
   // into the jam (blocked_motion_carry 0) `iterations` sweeps left single pairs a quarter of a
   // radius deep near posts and pillars; more sweeps everywhere would cost every crowd, while deep
-  // pairs are rare elsewhere (a packed crush adds a few hundredths of a sweep a tick on average).
+  // pairs are rare elsewhere (a packed crush adds about a tenth of a sweep a tick on average).
   // Bounds the solve at iterations + extra_iterations sweeps. 0 = off. [0, 256]
   std::uint32_t extra_iterations = 16;
   // Pairs closer than r_a + r_b + margin are kept as contact candidates for the whole tick, so that

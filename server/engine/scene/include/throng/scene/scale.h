@@ -9,7 +9,8 @@
 //
 // A scene with "scale_scenery": false keeps its scenery as written: its obstacles are objects of
 // a given size where the crowd meets them (a 0.5 m post at the goal), and scaling them would make
-// a different scene (a 0.25 m post; pillars too close for a body to pass between).
+// a different scene (a 0.25 m post; pillars too close for a body to pass between). Its spawns and
+// targets still scale about the origin.
 //
 // Two exceptions, both so that scaling does not change the physics of the scene:
 //  - line shapes (1D ranks) keep their spacing: their length scales by s^2 (their midpoint by s).

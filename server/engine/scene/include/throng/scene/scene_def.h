@@ -117,8 +117,9 @@ struct SceneDef {
   std::uint64_t ticks = 300;   // default run length (the bench's --ticks overrides)
   std::uint64_t seed = 1;      // spawn placement RNG
   // Whether --agents (scale_scene) scales the scenery with the crowd's area. false: the scenery
-  // stays as written and only the spawns scale, for scenes whose obstacles are objects of a given
-  // size where the crowd meets them (a post at the goal) rather than a map.
+  // stays as written and only the spawns scale (their areas and centres, and the behaviours'
+  // targets, as always), for scenes whose obstacles are objects of a given size where the crowd
+  // meets them (a post at the goal, which stays on the goal only if the goal is the origin).
   bool scale_scenery = true;
   WorldSettings settings;
   DocumentSource params;       // parameter table
