@@ -20,12 +20,14 @@ int main(int argc, char** argv) {
   // A file-size limit (ulimit -f) must end the match log like a full disk does, with a write error
   // the server reports and survives, not kill the match with SIGXFSZ.
   std::signal(SIGXFSZ, SIG_IGN);
-  // Blocks of 1 MiB and more (keyframe checkpoints, their compressed copies, a restored match's
-  // tables) always get a mapping of their own, returned whole when freed. Why: glibc raises this
-  // threshold each time it frees such a mapping, after which the next ones come from the heap and
-  // leave holes between longer-lived blocks; a server that runs for hours while clients come and
-  // go then grows. Setting it also fixes the heap's trim threshold at its default.
-  mallopt(M_MMAP_THRESHOLD, 1 << 20);
+  // Blocks of 128 KiB and more (keyframe checkpoints, their compressed copies, the log's blocks, a
+  // restored match's tables) always get a mapping of their own, returned whole when freed. Why:
+  // glibc raises this threshold each time it frees such a mapping, after which the next ones come
+  // from the heap and leave holes between longer-lived blocks; a server that runs for hours while
+  // clients come and go then grows. At 1 MiB the compressed keyframes (about 0.4 MB, a little
+  // larger with each as a battle densifies) still came from a thread's arena, which kept growing
+  // (docs/design/memory.md). Setting it also fixes the heap's trim threshold at its default.
+  mallopt(M_MMAP_THRESHOLD, 128 << 10);
   const std::vector<std::string> args(argv + 1, argv + argc);
   const auto parsed = throng::server::parse_server_options(args);
   if (!parsed.options) {
