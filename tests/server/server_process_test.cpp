@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <csignal>
+#include <regex>
 
 #include <arpa/inet.h>
 #include <netinet/in.h>
@@ -11,7 +12,6 @@
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
-#include <regex>
 #include <sstream>
 
 #include "server_test_support.h"
@@ -27,7 +27,8 @@ TEST(ServerProcess, SigtermEndsTheMatchGracefully) {
   const auto summary = (dir / "summary.json").string();
   ChildProcess server(kServer,
                       {"--scene", "battle", "--npcs", "300", "--domain", "151", "--admin-port", "-1", "--summary-json",
-                       summary, "--log-level", "info", "--log", (dir / "match.tlog").string()},
+                       summary, "--log-level", "info", "--log", (dir / "match.tlog").string(), "--trim-memory-every",
+                       "0.2"},
                       dir / "out.txt", dir / "err.txt");
   TestClient client(151);
   const auto r = client.join(12, "witness");
@@ -47,6 +48,10 @@ TEST(ServerProcess, SigtermEndsTheMatchGracefully) {
   const auto err = read_file(dir / "err.txt");
   EXPECT_NE(err.find("SIGTERM received"), std::string::npos) << err;
   EXPECT_NE(read_file(dir / "out.txt").find("throng-server summary"), std::string::npos);
+  // The memory trimmer ran every 0.2 s while the match did (75 snapshots at 30 Hz: 2.5 s at least).
+  std::smatch trims;
+  ASSERT_TRUE(std::regex_search(err, trims, std::regex("memory trims: ([0-9]+) \\(every 0.2 s\\)"))) << err;
+  EXPECT_GE(std::stoi(trims[1].str()), 5) << err;
   // The match log it wrote replays bit-exactly: every tick's state hash matches.
   ChildProcess replay(std::string(THRONG_BIN_DIR) + "/throng-replay", {"verify", (dir / "match.tlog").string()},
                       dir / "verify.txt", dir / "verify.err");
@@ -167,6 +172,8 @@ TEST(ServerProcess, BadCommandLinesAreRejectedWithAClearMessage) {
       {{"--end-when-empty", "nan"}, "--end-when-empty"},
       {{"--end-when-empty", "-1"}, "--end-when-empty"},
       {{"--end-when-routed", "inf"}, "--end-when-routed"},
+      {{"--trim-memory-every", "nan"}, "--trim-memory-every"},
+      {{"--trim-memory-every", "-1"}, "--trim-memory-every"},
       {{"--log-keyframe-ticks", "-1"}, "--log-keyframe-ticks"},
       {{"--log-keyframe-ticks", "200000"}, "--log-keyframe-ticks"},
       {{"--solver-threads", "0"}, "--solver-threads"},

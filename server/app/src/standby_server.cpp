@@ -29,6 +29,7 @@
 #include "throng/protocol/security.h"
 #include "throng/server/log_setup.h"
 #include "throng/server/match_server.h"
+#include "throng/server/memory_trimmer.h"
 #include "throng/server/standby_metrics.h"
 #include "throng/world/world.h"
 
@@ -591,7 +592,10 @@ int StandbyServer::run(bool handle_signals) {
   const auto end_at = m.options.duration_s > 0
                           ? started + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(m.options.duration_s))
                           : Clock::time_point::max();
+  // A standby follows for as long as its primary hosts: the same trimming as the primary's.
+  auto trimmer = MemoryTrimmer::every_seconds(m.options.trim_memory_s);
   const bool takeover = m.follow_loop(end_at);
+  trimmer.reset();  // a takeover's match server starts its own
   m.wall_seconds = std::chrono::duration<double>(Clock::now() - started).count();
   if (!takeover && m.log) {
     const std::string path = m.log->path();

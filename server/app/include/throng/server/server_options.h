@@ -37,6 +37,9 @@ struct ServerOptions {
   // a seek re-simulates up to this many ticks; keyframes are most of a log's size.
   std::uint32_t log_keyframe_ticks = 60;
   std::uint32_t max_catchup_ticks = 3;
+  // Every this many seconds a thread of its own hands the memory malloc holds freed back to the
+  // system (memory_trimmer.h); 0 = never.
+  double trim_memory_s = 10.0;
   // Parameter changes (ParamUpdate) are accepted only from operators. With --security, DDS access
   // control lets only identities with the operator permission write them; without it, nobody can
   // be told apart, so they are refused unless this is set (development, tests, local tools).

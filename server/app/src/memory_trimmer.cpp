@@ -1,0 +1,55 @@
+#include "throng/server/memory_trimmer.h"
+
+#include <malloc.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace throng::server {
+
+void trim_malloc_heap() { malloc_trim(0); }
+
+MemoryTrimmer::MemoryTrimmer(std::chrono::milliseconds interval, std::function<void()> trim)
+    : interval_(interval), trim_(std::move(trim)) {
+  if (interval_.count() <= 0) throw std::invalid_argument("MemoryTrimmer: the interval must be positive");
+  if (!trim_) throw std::invalid_argument("MemoryTrimmer: no trim function");
+  thread_ = std::thread([this] { run(); });
+}
+
+std::unique_ptr<MemoryTrimmer> MemoryTrimmer::every_seconds(double seconds) {
+  if (!(seconds > 0.0)) return nullptr;
+  return std::make_unique<MemoryTrimmer>(std::chrono::milliseconds(std::max<long long>(1, std::llround(seconds * 1e3))));
+}
+
+MemoryTrimmer::~MemoryTrimmer() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  cv_.notify_all();
+  thread_.join();
+}
+
+MemoryTrimmer::Stats MemoryTrimmer::stats() const {
+  std::lock_guard lock(mutex_);
+  return stats_;
+}
+
+void MemoryTrimmer::run() {
+  using Clock = std::chrono::steady_clock;
+  std::unique_lock lock(mutex_);
+  for (;;) {
+    if (cv_.wait_for(lock, interval_, [this] { return stopping_; })) return;
+    lock.unlock();  // stats() and the destructor must not wait for a trim
+    const auto t0 = Clock::now();
+    trim_();
+    const double took = std::chrono::duration<double>(Clock::now() - t0).count();
+    lock.lock();
+    ++stats_.trims;
+    stats_.total_seconds += took;
+    stats_.max_seconds = std::max(stats_.max_seconds, took);
+  }
+}
+
+}  // namespace throng::server
