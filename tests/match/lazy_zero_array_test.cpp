@@ -1,9 +1,12 @@
 // The snapshot clients' per-object records (server/match/src/lazy_zero_array.h): zero until
-// written, kept across growth, each array its own mapping.
+// written, kept across growth, each array its own mapping, resident on commit.
 #include <gtest/gtest.h>
+#include <sys/mman.h>
+#include <unistd.h>
 
 #include <cstdint>
 #include <cstring>
+#include <vector>
 #include <utility>
 
 #include "../../server/match/src/lazy_zero_array.h"
@@ -76,6 +79,41 @@ TEST(LazyZeroArray, RefusesACountBeyondAnyMapping) {
   EXPECT_THROW(records.grow_to(std::size_t{1} << 60), std::bad_alloc);
   ASSERT_EQ(records.size(), 4u);  // unchanged
   EXPECT_EQ(records[0].a, 1u);
+}
+
+
+// Pages of the array's mapping the kernel holds in memory (mincore).
+std::size_t resident_pages(const LazyZeroArray<Record>& records) {
+  const auto page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+  const std::size_t pages = (records.size() * sizeof(Record) + page - 1) / page;
+  std::vector<unsigned char> in_core(pages);
+  if (mincore(const_cast<Record*>(records.data()), pages * page, in_core.data()) != 0) return ~std::size_t{0};
+  std::size_t n = 0;
+  for (const unsigned char c : in_core) n += c & 1u;
+  return n;
+}
+
+TEST(LazyZeroArray, CommitMakesEveryPageResidentAndKeepsTheRecords) {
+  const auto page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+  LazyZeroArray<Record> records;
+  records.grow_to(100000);  // 3.2 MB
+  const std::size_t pages = (records.size() * sizeof(Record) + page - 1) / page;
+  records[5] = {1, 2, 3, 4.5, -6.0};
+  records[99999].b = 9;
+  // Lazily, only what was written is resident: the two pages written.
+  EXPECT_EQ(resident_pages(records), 2u);
+  records.commit();
+  EXPECT_EQ(resident_pages(records), pages);
+  EXPECT_EQ(records[5].a, 1u);
+  EXPECT_EQ(records[5].e, -6.0);
+  EXPECT_EQ(records[99999].b, 9u);
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    if (i == 5 || i == 99999) continue;
+    ASSERT_TRUE(all_zero(records[i])) << "record " << i;
+  }
+  LazyZeroArray<Record> empty;
+  empty.commit();  // nothing mapped: nothing to do
+  EXPECT_EQ(empty.data(), nullptr);
 }
 
 }  // namespace

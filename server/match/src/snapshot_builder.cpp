@@ -207,8 +207,15 @@ struct Client {
   std::vector<KnownEntry> known;      // objects the client holds, in the order they became known
   std::vector<PendingRemoval> pending;
 
-  void reserve(std::size_t capacity) {
+  // commit: make the record table resident now (a joining client, or a live one when the world
+  // grew). Why: lazily, a client's table filled in page by page as it met more of the world, and a
+  // long-staying client's kept growing for half an hour: a server's memory crept up at a constant
+  // number of clients (docs/design/memory.md). Committed at the join, it is a function of the
+  // clients present. A restore does not commit (lazy_zero_array.h: it creates every client at once,
+  // inside a seek).
+  void reserve(std::size_t capacity, bool commit) {
     obj.grow_to(capacity);
+    if (commit) obj.commit();
     known.reserve(capacity);
     pending.reserve(capacity + 64);
   }
@@ -377,7 +384,7 @@ void SnapshotBuilder::add_client(std::uint32_t client_id) {
     throw std::invalid_argument(fmt::format("SnapshotBuilder::add_client: client {} already added", client_id));
   auto c = std::make_unique<Client>();
   c->client_id = client_id;
-  c->reserve(m.capacity);
+  c->reserve(m.capacity, true);
   auto it = std::lower_bound(m.clients.begin(), m.clients.end(), client_id,
                              [](const std::unique_ptr<Client>& x, std::uint32_t v) { return x->client_id < v; });
   m.clients.insert(it, std::move(c));
@@ -400,7 +407,7 @@ void SnapshotBuilder::index(const BodyView& bodies, std::uint64_t tick) {
 
   if (m.grid.index_bound() > m.capacity) {
     m.capacity = m.grid.index_bound();
-    for (auto& c : m.clients) c->reserve(m.capacity);
+    for (auto& c : m.clients) c->reserve(m.capacity, true);
   }
   m.scratch.impl_->reserve(m.grid.size());
 
@@ -1115,7 +1122,7 @@ void SnapshotBuilder::restore_state(ByteReader& r, std::size_t max_capacity) {
     if (c.client_id <= previous) r.fail("snapshot client ids not ascending");
     previous = c.client_id;
     c.stamp = r.get<std::uint32_t>("snapshot stamp");
-    c.reserve(capacity);
+    c.reserve(capacity, false);
     c.known.resize(r.get_count("snapshot known", 2 * capacity + 64, kKnownRecordBytes));
     const std::uint8_t* p = r.take(c.known.size() * kKnownRecordBytes, "snapshot known");
     for (KnownEntry& e : c.known) {
