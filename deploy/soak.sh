@@ -9,7 +9,8 @@
 #   snapshot gap at any bot; the log verifies.
 # Runs shorter than 30 minutes scale those windows to a twelfth (RSS baseline) and a sixth (p99)
 # of the run. Exit 0 when every target holds, 1 otherwise, 2 on a setup error.
-# Usage: deploy/soak.sh [MINUTES]   (env: BUILD=build/release, DOMAIN=62, OUT=dir, NPCS=6000)
+# Usage: deploy/soak.sh [MINUTES]   (env: BUILD=build/release, DOMAIN=62, OUT=dir, NPCS=6000,
+#   SERVER_ARGS: more throng-server flags, e.g. "--trim-memory-every 0" to soak without trims)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 MINUTES=${1:-60}
@@ -30,7 +31,7 @@ SECONDS_TOTAL=$((MINUTES * 60))
 echo "soak: $MINUTES min, $NPCS NPCs, 100 bots (20 rejoining every minute); results in $OUT"
 
 "$BUILD/bin/throng-server" --domain "$DOMAIN" --npcs "$NPCS" --duration $((SECONDS_TOTAL + 30)) \
-  --admin-port "$ADMIN_PORT" --log "$OUT/soak.tlog" --summary-json "$OUT/server.json" \
+  --admin-port "$ADMIN_PORT" --log "$OUT/soak.tlog" --summary-json "$OUT/server.json" ${SERVER_ARGS:-} \
   >"$OUT/server.txt" 2>"$OUT/server.log" &
 SERVER=$!
 PIDS=()

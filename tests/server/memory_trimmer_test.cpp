@@ -90,20 +90,21 @@ constexpr bool kMallocIsGlibc = true;
 TEST(TrimMallocHeap, ReturnsFreedBlocksThatLiveBlocksKeepInTheHeap) {
   if (!kMallocIsGlibc) GTEST_SKIP() << "glibc's malloc is replaced by the sanitizer's";
   constexpr std::size_t kBlock = 96 << 10;  // under glibc's mapping threshold: from the heap
-  constexpr int kBlocks = 64;               // 6 MiB
-  std::vector<void*> freed, kept;
+  constexpr int kBlocks = 128;              // half freed: 6 MiB
+  // Every other block stays live, so a freed one cannot merge with its neighbours into the heap's
+  // top (which free() hands back by itself); the last one allocated, at the top, is kept.
+  std::vector<void*> blocks;
   for (int i = 0; i < kBlocks; ++i) {
-    void* big = std::malloc(kBlock);
-    ASSERT_NE(big, nullptr);
-    std::memset(big, 0x5a, kBlock);  // resident
-    freed.push_back(big);
-    kept.push_back(std::malloc(64));  // a live block after each: the freed ones cannot merge into the top
+    void* p = std::malloc(kBlock);
+    ASSERT_NE(p, nullptr);
+    std::memset(p, 0x5a, kBlock);  // resident
+    blocks.push_back(p);
   }
-  for (void* p : freed) std::free(p);
+  for (int i = 0; i < kBlocks; i += 2) std::free(blocks[static_cast<std::size_t>(i)]);
   const std::size_t before = resident_bytes();
   trim_malloc_heap();
   const std::size_t after = resident_bytes();
-  for (void* p : kept) std::free(p);
+  for (int i = 1; i < kBlocks; i += 2) std::free(blocks[static_cast<std::size_t>(i)]);
   // Each freed block keeps a page or two of bookkeeping; the rest (about 6 MiB) goes back.
   EXPECT_GE(before, after + (4u << 20)) << "resident before " << before << ", after " << after;
 }
