@@ -6,8 +6,8 @@
 
 #include <cstdint>
 #include <cstring>
-#include <vector>
 #include <utility>
+#include <vector>
 
 #include "../../server/match/src/lazy_zero_array.h"
 
@@ -111,6 +111,13 @@ TEST(LazyZeroArray, CommitMakesEveryPageResidentAndKeepsTheRecords) {
     if (i == 5 || i == 99999) continue;
     ASSERT_TRUE(all_zero(records[i])) << "record " << i;
   }
+  // After a growth, commit makes the new pages resident; the lazy part stays lazy until then.
+  records.grow_to(200000);
+  const std::size_t grown = (records.size() * sizeof(Record) + page - 1) / page;
+  EXPECT_EQ(resident_pages(records), pages);
+  records.commit();
+  EXPECT_EQ(resident_pages(records), grown);
+  EXPECT_EQ(records[99999].b, 9u);
   LazyZeroArray<Record> empty;
   empty.commit();  // nothing mapped: nothing to do
   EXPECT_EQ(empty.data(), nullptr);

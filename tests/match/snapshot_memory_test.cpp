@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <fstream>
 #include <vector>
@@ -78,6 +79,26 @@ TEST(SnapshotMemory, ARestoredClientsTableStaysLazy) {
   ASSERT_TRUE(restored.has_client(7));
   // Only the pages of the records it holds (a handful near the origin), not the table.
   EXPECT_LT(resident_bytes(), before + kTableBytes / 4) << "before " << before << ", restored " << resident_bytes();
+}
+
+// A restore without baselines adds its clients before the first index (lazily), and the index's
+// growth of the tables must keep them lazy; a joined client's grows resident.
+TEST(SnapshotMemory, TablesGrownByTheIndexStayAsTheirClientWasAdded) {
+  const Line line;
+  InterestConfig config;
+  config.radius_m = 30.0;
+  SnapshotBuilder lazy(config), resident(config);
+  lazy.add_client(7, SnapshotBuilder::Residency::kLazy);
+  resident.add_client(7);
+  const std::size_t before = resident_bytes();
+  lazy.index(line.view(), 1);  // capacity 0 -> every body's index
+  const std::size_t lazy_indexed = resident_bytes();
+  resident.index(line.view(), 1);
+  const std::size_t resident_indexed = resident_bytes();
+  // Each index also builds its own grid and scratch (the same for both builders): the resident
+  // client's index costs its table more than the lazy one's.
+  const std::size_t lazy_cost = lazy_indexed - before, resident_cost = resident_indexed - lazy_indexed;
+  EXPECT_GE(resident_cost, lazy_cost + kTableBytes * 9 / 10) << "lazy " << lazy_cost << ", resident " << resident_cost;
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <stdexcept>
 #include <thread>
 #include <vector>
@@ -73,14 +74,16 @@ TEST(MemoryTrimmer, RefusesANonPositiveIntervalAndAMissingFunction) {
 
 TEST(MemoryTrimmer, TheServersTrimmerIsOffAtZeroAndRoundsToMilliseconds) {
   EXPECT_EQ(MemoryTrimmer::every_seconds(0.0), nullptr);
-  EXPECT_EQ(MemoryTrimmer::every_seconds(-1.0), nullptr);
-  EXPECT_EQ(MemoryTrimmer::every_seconds(std::nan("")), nullptr);
-  EXPECT_NE(MemoryTrimmer::every_seconds(1e-6), nullptr);  // at least a millisecond, not a refused 0
-  EXPECT_NE(MemoryTrimmer::every_seconds(10.0), nullptr);
+  EXPECT_EQ(MemoryTrimmer::every_seconds(0.2)->interval(), 200ms);
+  EXPECT_EQ(MemoryTrimmer::every_seconds(10.0)->interval(), 10000ms);
+  EXPECT_EQ(MemoryTrimmer::every_seconds(0.1234)->interval(), 123ms);
+  // Refused rather than turned into something else: below the floor, beyond a day, not a number.
+  for (const double bad : {-1.0, 0.05, 86401.0, std::nan(""), std::numeric_limits<double>::infinity()})
+    EXPECT_THROW(MemoryTrimmer::every_seconds(bad), std::invalid_argument) << bad;
 }
 
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kMallocIsGlibc = false;  // ASan's allocator replaces glibc's: malloc_trim has nothing to trim
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr bool kMallocIsGlibc = false;  // the sanitizer's allocator replaces glibc's: malloc_trim has nothing to trim
 #else
 constexpr bool kMallocIsGlibc = true;
 #endif

@@ -174,6 +174,7 @@ TEST(ServerProcess, BadCommandLinesAreRejectedWithAClearMessage) {
       {{"--end-when-routed", "inf"}, "--end-when-routed"},
       {{"--trim-memory-every", "nan"}, "--trim-memory-every"},
       {{"--trim-memory-every", "-1"}, "--trim-memory-every"},
+      {{"--trim-memory-every", "0.05"}, "at least 0.1 s"},
       {{"--log-keyframe-ticks", "-1"}, "--log-keyframe-ticks"},
       {{"--log-keyframe-ticks", "200000"}, "--log-keyframe-ticks"},
       {{"--solver-threads", "0"}, "--solver-threads"},

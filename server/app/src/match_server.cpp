@@ -27,8 +27,8 @@
 #include "throng/server/client_ledger.h"
 #include "throng/server/duration_stats.h"
 #include "throng/server/keyframe_saver.h"
-#include "throng/server/memory_trimmer.h"
 #include "throng/server/log_setup.h"
+#include "throng/server/memory_trimmer.h"
 #include "throng/server/server_metrics.h"
 #include "throng/server/server_summary.h"
 #include "throng/server/standby_feed.h"
@@ -637,15 +637,10 @@ int MatchServer::run(bool handle_signals) {
       arm();
     });
   };
-  const auto trimmer = MemoryTrimmer::every_seconds(m.options.trim_memory_s);
+  auto trimmer = MemoryTrimmer::every_seconds(m.options.trim_memory_s);
   arm();
   io.run();
-  if (trimmer) {
-    const MemoryTrimmer::Stats ts = trimmer->stats();
-    spdlog::info("memory trims: {} (every {} s), {:.3f} ms on average, {:.3f} ms the longest", ts.trims,
-                 m.options.trim_memory_s, ts.trims ? ts.total_seconds / static_cast<double>(ts.trims) * 1e3 : 0.0,
-                 ts.max_seconds * 1e3);
-  }
+  log_and_stop(trimmer);
 
   if (m.fenced_by.load() != 0)
     spdlog::error("match {} is hosted by another server now (epoch {}, this server's {}): this server was replaced (it "

@@ -2,6 +2,8 @@
 
 #include <malloc.h>
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -19,8 +21,10 @@ MemoryTrimmer::MemoryTrimmer(std::chrono::milliseconds interval, std::function<v
 }
 
 std::unique_ptr<MemoryTrimmer> MemoryTrimmer::every_seconds(double seconds) {
-  if (!(seconds > 0.0)) return nullptr;
-  return std::make_unique<MemoryTrimmer>(std::chrono::milliseconds(std::max<long long>(1, std::llround(seconds * 1e3))));
+  if (seconds == 0.0) return nullptr;
+  if (!(seconds >= kMinSeconds && seconds <= kMaxSeconds))  // NaN fails both
+    throw std::invalid_argument("MemoryTrimmer: the interval must be 0 (never) or from 0.1 to 86400 s");
+  return std::make_unique<MemoryTrimmer>(std::chrono::milliseconds(std::llround(seconds * 1e3)));
 }
 
 MemoryTrimmer::~MemoryTrimmer() {
@@ -51,6 +55,15 @@ void MemoryTrimmer::run() {
     stats_.total_seconds += took;
     stats_.max_seconds = std::max(stats_.max_seconds, took);
   }
+}
+
+void log_and_stop(std::unique_ptr<MemoryTrimmer>& trimmer) {
+  if (!trimmer) return;
+  const MemoryTrimmer::Stats ts = trimmer->stats();
+  const double every_s = static_cast<double>(trimmer->interval().count()) / 1e3;
+  trimmer.reset();
+  spdlog::info("memory trims: {} (every {} s), {:.3f} ms on average, {:.3f} ms the longest", ts.trims, every_s,
+               ts.trims ? ts.total_seconds / static_cast<double>(ts.trims) * 1e3 : 0.0, ts.max_seconds * 1e3);
 }
 
 }  // namespace throng::server

@@ -104,7 +104,8 @@ ParseResult parse_server_options(const std::vector<std::string>& args) {
       ->check(CLI::Range(0u, 3000u));
   app.add_option("--trim-memory-every", o.trim_memory_s,
                  "every this many seconds, hand the memory malloc holds freed back to the system, on a thread of its "
-                 "own (0 = never): without it a long match's resident memory creeps up as clients come and go")
+                 "own (0 = never, else 0.1 to 86400): without it a long match's resident memory creeps up as clients "
+                 "come and go")
       ->check(CLI::Range(0.0, 86400.0));
   app.add_option("--summary-json", o.summary_json, "write the end-of-match summary to this JSON file");
   app.add_option("--log-format", o.log_format, "text, or json: one JSON object per line (time, level, match, msg)")
@@ -121,6 +122,8 @@ ParseResult parse_server_options(const std::vector<std::string>& args) {
     require_finite(o.end_when_empty_s, "--end-when-empty");
     require_finite(o.end_when_routed_s, "--end-when-routed");
     require_finite(o.trim_memory_s, "--trim-memory-every");
+    if (o.trim_memory_s > 0.0 && o.trim_memory_s < 0.1)
+      throw CLI::ValidationError("--trim-memory-every", "0 (never) or at least 0.1 s: a trim holds malloc's locks");
     if (o.standby && !o.listen.empty())
       throw CLI::ValidationError("--standby", "does not run over --listen (TCP) yet: use the primary's DDS domain");
     if (!o.public_address.empty() && o.listen.empty())

@@ -595,7 +595,7 @@ int StandbyServer::run(bool handle_signals) {
   // A standby follows for as long as its primary hosts: the same trimming as the primary's.
   auto trimmer = MemoryTrimmer::every_seconds(m.options.trim_memory_s);
   const bool takeover = m.follow_loop(end_at);
-  trimmer.reset();  // a takeover's match server starts its own
+  log_and_stop(trimmer);  // a takeover's match server starts its own
   m.wall_seconds = std::chrono::duration<double>(Clock::now() - started).count();
   if (!takeover && m.log) {
     const std::string path = m.log->path();

@@ -4,7 +4,7 @@
 // match restored from a checkpoint creates all its clients at once: zero-filling their arrays with
 // std::vector page-faulted and cleared every page, half of a seek's first re-simulated tick. A
 // fresh anonymous mapping is zero pages until written, so only the records a client actually sees
-// cost.
+// cost, unless the owner commits the array (a live join does: snapshot_builder.cpp says why).
 //
 // Why mmap and not calloc: glibc serves a large calloc from a mapping only until the first such
 // block is freed, then raises its mapping threshold above that size, and later clients' arrays come
@@ -50,18 +50,23 @@ class LazyZeroArray {
       void* p = data_ == nullptr ? mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0)
                                  : mremap(data_, mapped_, bytes, MREMAP_MAYMOVE);  // keeps the records, zero tail
       if (p == MAP_FAILED) throw std::bad_alloc();
+      // No transparent huge pages: one record written would make 2 MiB resident, which is what
+      // the laziness is there to avoid (the flag stays with the mapping through mremap).
+      if (data_ == nullptr) madvise(p, bytes, MADV_NOHUGEPAGE);
       data_ = static_cast<T*>(p);
       mapped_ = bytes;
     }
     size_ = n;
   }
 
-  // Makes every page of the mapping resident now, records unchanged (each page's first byte is
-  // read and written back: a write is what gives an untouched page memory of its own).
+  // Makes the mapping's pages resident now, records unchanged; after a growth only the pages the
+  // last commit did not cover. Each page's first byte is read and written back: a write is what
+  // gives an untouched page memory of its own.
   void commit() {
     const auto page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
     auto* bytes = reinterpret_cast<volatile unsigned char*>(data_);
-    for (std::size_t off = 0; off < mapped_; off += page) bytes[off] = bytes[off];
+    for (std::size_t off = committed_; off < mapped_; off += page) bytes[off] = bytes[off];
+    committed_ = mapped_;
   }
 
   std::size_t size() const { return size_; }
@@ -82,11 +87,13 @@ class LazyZeroArray {
     std::swap(data_, o.data_);
     std::swap(size_, o.size_);
     std::swap(mapped_, o.mapped_);
+    std::swap(committed_, o.committed_);
   }
 
   T* data_ = nullptr;   // page-aligned (alignof(T) is far smaller)
   std::size_t size_ = 0;
   std::size_t mapped_ = 0;  // bytes mapped, a whole number of pages
+  std::size_t committed_ = 0;  // bytes commit() made resident (the mapping's first ones)
 };
 
 }  // namespace throng::match::detail

@@ -365,7 +365,7 @@ void restore_match(Impl& m, std::span<const std::uint8_t> bytes, RestoreOptions 
   } else {
     // As at each client's join (take_over): the builder knows exactly the connected clients.
     for (const ClientRecord& c : records) {
-      if (c.connected) staged_snapshots.add_client(c.id);
+      if (c.connected) staged_snapshots.add_client(c.id, SnapshotBuilder::Residency::kLazy);  // a seek's restore
     }
   }
   if (l.version >= 2 && r.remaining() != 0) r.fail(std::to_string(r.remaining()) + " bytes after the match section");

@@ -207,15 +207,16 @@ struct Client {
   std::vector<KnownEntry> known;      // objects the client holds, in the order they became known
   std::vector<PendingRemoval> pending;
 
-  // commit: make the record table resident now (a joining client, or a live one when the world
-  // grew). Why: lazily, a client's table filled in page by page as it met more of the world, and a
+  // A joined client's record table is resident from the join and as the world grows (only the new
+  // pages). Why: lazily, a client's table filled in page by page as it met more of the world, and a
   // long-staying client's kept growing for half an hour: a server's memory crept up at a constant
-  // number of clients (docs/design/memory.md). Committed at the join, it is a function of the
-  // clients present. A restore does not commit (lazy_zero_array.h: it creates every client at once,
-  // inside a seek).
-  void reserve(std::size_t capacity, bool commit) {
+  // number of clients (docs/design/memory.md). A restored client's stays lazy
+  // (lazy_zero_array.h: a restore creates every client at once, inside a seek).
+  bool resident = false;
+
+  void reserve(std::size_t capacity) {
     obj.grow_to(capacity);
-    if (commit) obj.commit();
+    if (resident) obj.commit();
     known.reserve(capacity);
     pending.reserve(capacity + 64);
   }
@@ -378,13 +379,14 @@ SnapshotBuilder::~SnapshotBuilder() = default;
 SnapshotBuilder::SnapshotBuilder(SnapshotBuilder&&) noexcept = default;
 SnapshotBuilder& SnapshotBuilder::operator=(SnapshotBuilder&&) noexcept = default;
 
-void SnapshotBuilder::add_client(std::uint32_t client_id) {
+void SnapshotBuilder::add_client(std::uint32_t client_id, Residency residency) {
   Impl& m = *impl_;
   if (m.find(client_id))
     throw std::invalid_argument(fmt::format("SnapshotBuilder::add_client: client {} already added", client_id));
   auto c = std::make_unique<Client>();
   c->client_id = client_id;
-  c->reserve(m.capacity, true);
+  c->resident = residency == Residency::kResident;
+  c->reserve(m.capacity);
   auto it = std::lower_bound(m.clients.begin(), m.clients.end(), client_id,
                              [](const std::unique_ptr<Client>& x, std::uint32_t v) { return x->client_id < v; });
   m.clients.insert(it, std::move(c));
@@ -407,7 +409,7 @@ void SnapshotBuilder::index(const BodyView& bodies, std::uint64_t tick) {
 
   if (m.grid.index_bound() > m.capacity) {
     m.capacity = m.grid.index_bound();
-    for (auto& c : m.clients) c->reserve(m.capacity, true);
+    for (auto& c : m.clients) c->reserve(m.capacity);
   }
   m.scratch.impl_->reserve(m.grid.size());
 
@@ -1122,7 +1124,7 @@ void SnapshotBuilder::restore_state(ByteReader& r, std::size_t max_capacity) {
     if (c.client_id <= previous) r.fail("snapshot client ids not ascending");
     previous = c.client_id;
     c.stamp = r.get<std::uint32_t>("snapshot stamp");
-    c.reserve(capacity, false);
+    c.reserve(capacity);  // lazy: a restored client is not made resident
     c.known.resize(r.get_count("snapshot known", 2 * capacity + 64, kKnownRecordBytes));
     const std::uint8_t* p = r.take(c.known.size() * kKnownRecordBytes, "snapshot known");
     for (KnownEntry& e : c.known) {

@@ -31,16 +31,21 @@ class MemoryTrimmer {
     double max_seconds = 0.0;    // the longest trim
   };
 
-  // Calls `trim` every `interval` (> 0) until destroyed.
+  // Calls `trim` every `interval` (> 0) until destroyed. `trim` runs on the trimmer's thread and
+  // must not throw (an exception there would end the process).
   explicit MemoryTrimmer(std::chrono::milliseconds interval, std::function<void()> trim = trim_malloc_heap);
   ~MemoryTrimmer();  // stops the thread; a trim in progress finishes first
   MemoryTrimmer(const MemoryTrimmer&) = delete;
   MemoryTrimmer& operator=(const MemoryTrimmer&) = delete;
 
   Stats stats() const;
+  std::chrono::milliseconds interval() const { return interval_; }
 
-  // The servers' trimmer: malloc_trim every `seconds` (rounded to whole milliseconds, at least
-  // one); null for 0 (--trim-memory-every 0: never).
+  // The servers' trimmer: malloc_trim every `seconds` (rounded to whole milliseconds); null for 0
+  // (--trim-memory-every 0: never). Below kMinSeconds or above kMaxSeconds, NaN or infinite:
+  // std::invalid_argument. Why a floor: a trim holds the arenas' locks for up to about a
+  // millisecond, so trimming every few milliseconds would keep them held much of the time.
+  static constexpr double kMinSeconds = 0.1, kMaxSeconds = 86400.0;
   static std::unique_ptr<MemoryTrimmer> every_seconds(double seconds);
 
  private:
@@ -54,5 +59,8 @@ class MemoryTrimmer {
   Stats stats_;
   std::thread thread_;
 };
+
+// Stops the trimmer (if any) and logs how many trims it made and how long they took.
+void log_and_stop(std::unique_ptr<MemoryTrimmer>& trimmer);
 
 }  // namespace throng::server

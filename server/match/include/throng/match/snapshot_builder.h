@@ -93,7 +93,11 @@ class SnapshotBuilder {
 
   // Allocates the client's per-object state (not in the tick's hot path: at join). A client id
   // that is already added: std::invalid_argument. remove_client of an unknown id does nothing.
-  void add_client(std::uint32_t client_id);
+  // Residency (docs/design/memory.md): a joining client's table is made resident now and as the
+  // world grows (kResident), so a server's memory is a function of the clients present; a restore
+  // adds its clients lazily (kLazy: a seek creates every client at once and must stay short).
+  enum class Residency { kResident, kLazy };
+  void add_client(std::uint32_t client_id, Residency residency = Residency::kResident);
   void remove_client(std::uint32_t client_id);
 
   // Once per tick, before build(): grids the bodies. Spans of different lengths, id 0, an id
