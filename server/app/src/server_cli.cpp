@@ -5,9 +5,11 @@
 #include <stdexcept>
 
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
 
 #include "throng/protocol/dds_transport.h"
 #include "throng/server/agones_sdk.h"
+#include "throng/server/memory_trimmer.h"
 #include "throng/server/server_options.h"
 
 namespace throng::server {
@@ -106,7 +108,7 @@ ParseResult parse_server_options(const std::vector<std::string>& args) {
                  "every this many seconds, hand the memory malloc holds freed back to the system, on a thread of its "
                  "own (0 = never, else 0.1 to 86400): without it a long match's resident memory creeps up as clients "
                  "come and go")
-      ->check(CLI::Range(0.0, 86400.0));
+      ->check(CLI::Range(0.0, MemoryTrimmer::kMaxSeconds));
   app.add_option("--summary-json", o.summary_json, "write the end-of-match summary to this JSON file");
   app.add_option("--log-format", o.log_format, "text, or json: one JSON object per line (time, level, match, msg)")
       ->check(CLI::IsMember({"text", "json"}));
@@ -122,8 +124,9 @@ ParseResult parse_server_options(const std::vector<std::string>& args) {
     require_finite(o.end_when_empty_s, "--end-when-empty");
     require_finite(o.end_when_routed_s, "--end-when-routed");
     require_finite(o.trim_memory_s, "--trim-memory-every");
-    if (o.trim_memory_s > 0.0 && o.trim_memory_s < 0.1)
-      throw CLI::ValidationError("--trim-memory-every", "0 (never) or at least 0.1 s: a trim holds malloc's locks");
+    if (o.trim_memory_s > 0.0 && o.trim_memory_s < MemoryTrimmer::kMinSeconds)
+      throw CLI::ValidationError("--trim-memory-every", fmt::format("0 (never) or at least {} s: a trim holds malloc's locks",
+                                                                    MemoryTrimmer::kMinSeconds));
     if (o.standby && !o.listen.empty())
       throw CLI::ValidationError("--standby", "does not run over --listen (TCP) yet: use the primary's DDS domain");
     if (!o.public_address.empty() && o.listen.empty())
