@@ -80,6 +80,39 @@ TEST(SnapshotBuilderAllocation, IndexAndBuildDoNotAllocateAfterWarmUp) {
   EXPECT_GT(sent, 60u * 4u * 50u);
 }
 
+// A crowd that keeps spreading out (a routed army fleeing): the interest grid covers more ground
+// every tick, yet after its first index it allocates nothing, because its cell table is sized for
+// the most cells the body count allows, not for the ground covered so far.
+TEST(SnapshotBuilderAllocation, ASpreadingCrowdAllocatesNothingAfterTheFirstIndex) {
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> pos(-5.0, 5.0);
+  std::vector<std::uint32_t> id;
+  std::vector<double> x, y, z;
+  std::vector<float> yaw;
+  for (std::uint32_t i = 0; i < 3000; ++i) {
+    id.push_back(ObjectId::make(i, 0).value);
+    x.push_back(pos(rng));
+    y.push_back(pos(rng));
+    z.push_back(0.9);
+    yaw.push_back(0.0f);
+  }
+  SnapshotBuilder sb(InterestConfig{});
+  sb.add_client(1);
+  sb.index(BodyView{id, x, y, z, yaw}, 1);
+
+  g_allocations = 0;
+  g_counting = true;
+  for (std::uint64_t t = 2; t <= 80; ++t) {
+    for (std::size_t i = 0; i < id.size(); ++i) {  // 10 m across to about 470 m across
+      x[i] *= 1.05;
+      y[i] *= 1.05;
+    }
+    sb.index(BodyView{id, x, y, z, yaw}, t);
+  }
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 0u);
+}
+
 // Match::save_checkpoint into a warm buffer (the server writes one every ~2 s on the tick
 // thread): no allocation at all.
 TEST(MatchCheckpointAlloc, SaveDoesNotAllocateWhenWarm) {

@@ -138,6 +138,39 @@ TEST(Writer, RejectsMisuseAndBadOptions) {
   EXPECT_TRUE(std::filesystem::exists(dir / "logs" / "deep" / "m.tlog"));
 }
 
+// A long match holds in memory only the blocks since the last periodic index record; the final
+// index, which must list every block (the reader's scan checks it entry by entry), reads the
+// earlier ones back from the file.
+TEST(Writer, HoldsOnlyOneIndexIntervalOfEntriesAndTheFinalIndexListsThemAll) {
+  const auto path = test::test_dir() / "long.tlog";
+  WriterOptions o;
+  o.block_ticks = 5;
+  o.index_interval_ticks = 60;  // 12 blocks per periodic index record
+  MatchLogWriter w(path.string(), o);
+  w.begin(test::match_header(test::small_battle(20)));
+  const std::uint64_t ticks = 6000;
+  for (std::uint64_t t = 1; t <= ticks; ++t) w.append_tick(t, fifty_commands(t), t * 7919u, t == ticks ? kTickShutdownBegan : 0);
+  w.close();
+  const WriterStats st = w.stats();
+  EXPECT_TRUE(st.io_error.empty()) << st.io_error;
+  EXPECT_GE(st.index_entries_high_water, 1u);
+  EXPECT_LE(st.index_entries_high_water, 12u);
+
+  MatchLogReader r(path.string());
+  ASSERT_EQ(r.scan().end, LogEnd::closed) << r.scan().problem;
+  EXPECT_TRUE(r.scan().problem.empty()) << r.scan().problem;
+  EXPECT_EQ(r.scan().blocks.size(), ticks / 5);
+  EXPECT_EQ(r.scan().index_records, ticks / 60 + 1);
+  // Seeks go through the index: every block is found where it is.
+  TickRecord t;
+  for (std::uint64_t tick : {1ull, 61ull, 2999ull, 5996ull, 6000ull}) {
+    ASSERT_TRUE(r.seek(tick));
+    ASSERT_TRUE(r.next(t));
+    EXPECT_EQ(t.tick, tick);
+    EXPECT_EQ(t.state_hash, tick * 7919u);
+  }
+}
+
 TEST(Writer, DiskFullIsReportedNotHidden) {
   if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
   MatchLogWriter w("/dev/full");

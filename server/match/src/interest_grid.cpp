@@ -102,9 +102,12 @@ void InterestGrid::build(const BodyView& b, double cell_m) {
   const std::size_t cells = static_cast<std::size_t>(nx_) * static_cast<std::size_t>(ny_);
 
   // Pass 2: counting sort by row-major cell key (stable: input order within a cell).
-  // Capacity grows with headroom, so a crowd that slowly spreads out does not reallocate each tick.
-  if (cell_start_.capacity() < cells + 1) cell_start_.reserve((cells + 1) + (cells + 1) / 4 + 64);
-  cell_start_.assign(cells + 1, 0);
+  // Sized (and written) at once for the most cells this body count allows, not for this tick's
+  // extent: a battle's extent keeps growing as routed troops flee, and a table that grew with it
+  // reallocated, and took more pages, for as long as the match ran.
+  const auto most_cells = static_cast<std::size_t>(max_cells) + 1;
+  if (cell_start_.size() < most_cells) cell_start_.assign(most_cells, 0);
+  std::fill_n(cell_start_.begin(), cells + 1, 0u);
   std::uint32_t used = 0;
   for (std::size_t i = 0; i < n; ++i) {
     if (body_cell_[i] == ~0u) continue;

@@ -66,7 +66,8 @@ void MatchLogWriter::start(LogHeader header, std::uint64_t base_tick, const std:
   std::error_code ec;
   if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path(), ec);
   if (ec) throw LogError(fmt::format("match log {}: cannot create folder {}: {}", path_, p.parent_path().string(), ec.message()));
-  fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  // Read as well: the final index reads the periodic index records back (read_published_index).
+  fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd_ < 0) throw LogError(fmt::format("match log {}: cannot create: {}", path_, std::strerror(errno)));
 
   std::vector<std::uint8_t> pre(kMagic, kMagic + 8);
@@ -214,6 +215,7 @@ WriterStats MatchLogWriter::stats() const {
   s.keyframe_bytes = kf_bytes_.load(std::memory_order_relaxed);
   s.keyframe_raw_bytes = kf_raw_bytes_.load(std::memory_order_relaxed);
   s.max_keyframe_append_us = static_cast<double>(max_kf_append_ns_.load(std::memory_order_relaxed)) / 1e3;
+  s.index_entries_high_water = index_held_high_.load(std::memory_order_relaxed);
   std::lock_guard<std::mutex> lock(error_mutex_);
   s.io_error = io_error_;
   return s;

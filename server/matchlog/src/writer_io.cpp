@@ -26,6 +26,21 @@ std::string write_all(int fd, const std::uint8_t* p, std::size_t n) {
   return {};
 }
 
+std::string read_all_at(int fd, std::uint8_t* p, std::size_t n, std::uint64_t offset) {
+  while (n > 0) {
+    const ssize_t r = ::pread(fd, p, n, static_cast<off_t>(offset));
+    if (r < 0) {
+      if (errno == EINTR) continue;
+      return std::strerror(errno);
+    }
+    if (r == 0) return "the file ends early";
+    p += r;
+    n -= static_cast<std::size_t>(r);
+    offset += static_cast<std::uint64_t>(r);
+  }
+  return {};
+}
+
 void frame_record(RecordType type, const std::vector<std::uint8_t>& payload, std::vector<std::uint8_t>& out) {
   const std::size_t start = out.size();
   ByteWriter(out).put<std::uint32_t>(static_cast<std::uint32_t>(payload.size()));

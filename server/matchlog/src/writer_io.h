@@ -26,6 +26,9 @@ inline void atomic_max(std::atomic<std::uint64_t>& a, std::uint64_t v) {
 // write(2) until everything is written; "" or the error.
 std::string write_all(int fd, const std::uint8_t* p, std::size_t n);
 
+// pread(2) of exactly n bytes at `offset`; "" or the error (a short file is one).
+std::string read_all_at(int fd, std::uint8_t* p, std::size_t n, std::uint64_t offset);
+
 // Appends one framed record (length, type, payload, CRC-32C over all of it) to `out`.
 void frame_record(RecordType type, const std::vector<std::uint8_t>& payload, std::vector<std::uint8_t>& out);
 

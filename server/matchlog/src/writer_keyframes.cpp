@@ -93,7 +93,8 @@ void MatchLogWriter::write_keyframe(std::uint64_t tick, const std::vector<std::u
     kf_dropped_.fetch_add(1, std::memory_order_relaxed);
     return;
   }
-  kf_all_.push_back({tick, at});
+  kf_unpublished_.push_back({tick, at});
+  detail::atomic_max(index_held_high_, index_unpublished_.size() + kf_unpublished_.size());
   kf_written_.fetch_add(1, std::memory_order_relaxed);
   kf_bytes_.fetch_add(offset_ - at, std::memory_order_relaxed);
   kf_raw_bytes_.fetch_add(bytes.size(), std::memory_order_relaxed);

@@ -10,7 +10,9 @@
 
 #include <fmt/format.h>
 
+#include "record_framing.h"
 #include "throng/core/byte_io.h"
+#include "throng/matchlog/format.h"
 #include "writer_io.h"
 
 namespace throng::matchlog {
@@ -24,10 +26,11 @@ void MatchLogWriter::flush_block() {
   w.put<std::uint64_t>(block_first_);
   w.put<std::uint32_t>(static_cast<std::uint32_t>(block_count_));
   detail::append_body(zctx_, opt_.zstd_level, block_raw_, compressed_, block_payload_);
-  index_all_.push_back({block_first_, offset_, static_cast<std::uint32_t>(block_count_)});
+  index_unpublished_.push_back({block_first_, offset_, static_cast<std::uint32_t>(block_count_)});
+  detail::atomic_max(index_held_high_, index_unpublished_.size() + kf_unpublished_.size());
   write_record(RecordType::tick_block, block_payload_);
   if (io_failed_.load(std::memory_order_relaxed)) {
-    index_all_.pop_back();
+    index_unpublished_.pop_back();
     dropped_.fetch_add(block_count_, std::memory_order_relaxed);
   } else {
     written_.fetch_add(block_count_, std::memory_order_relaxed);
@@ -46,29 +49,85 @@ void MatchLogWriter::write_gap(std::uint64_t first, std::uint64_t count, std::ui
   write_record(RecordType::gap, p);
 }
 
+// A periodic index lists the blocks and keyframes since the previous one; the final index lists
+// them all, the earlier ones read back from the periodic records in the file.
 void MatchLogWriter::write_index(bool final) {
-  const std::size_t from = final ? 0 : index_published_;
+  std::vector<IndexEntry> read_back;
+  std::vector<KeyframeEntry> kf_read_back;
+  if (final && !read_published_index(read_back, kf_read_back)) return;
   std::vector<std::uint8_t> p;
   ByteWriter w(p);
   w.put<std::uint64_t>(last_index_offset_);
   w.put<std::uint8_t>(final ? 1 : 0);
-  w.put<std::uint32_t>(static_cast<std::uint32_t>(index_all_.size() - from));
-  for (std::size_t i = from; i < index_all_.size(); ++i) {
-    w.put<std::uint64_t>(index_all_[i].first_tick);
-    w.put<std::uint32_t>(index_all_[i].tick_count);
-    w.put<std::uint64_t>(index_all_[i].offset);
+  w.put<std::uint32_t>(static_cast<std::uint32_t>(read_back.size() + index_unpublished_.size()));
+  for (const std::vector<IndexEntry>* part : {&read_back, &index_unpublished_}) {
+    for (const IndexEntry& e : *part) {
+      w.put<std::uint64_t>(e.first_tick);
+      w.put<std::uint32_t>(e.tick_count);
+      w.put<std::uint64_t>(e.offset);
+    }
   }
   // v2: the keyframes since the previous index (final: all of them).
-  const std::size_t kfrom = final ? 0 : kf_published_;
-  w.put<std::uint32_t>(static_cast<std::uint32_t>(kf_all_.size() - kfrom));
-  for (std::size_t i = kfrom; i < kf_all_.size(); ++i) {
-    w.put<std::uint64_t>(kf_all_[i].tick);
-    w.put<std::uint64_t>(kf_all_[i].offset);
+  w.put<std::uint32_t>(static_cast<std::uint32_t>(kf_read_back.size() + kf_unpublished_.size()));
+  for (const std::vector<KeyframeEntry>* part : {&kf_read_back, &kf_unpublished_}) {
+    for (const KeyframeEntry& e : *part) {
+      w.put<std::uint64_t>(e.tick);
+      w.put<std::uint64_t>(e.offset);
+    }
   }
-  kf_published_ = kf_all_.size();
+  index_unpublished_.clear();
+  kf_unpublished_.clear();
   last_index_offset_ = offset_;
-  index_published_ = index_all_.size();
   write_record(RecordType::index, p);
+}
+
+// The entries of every periodic index record written so far, oldest first: each record starts
+// with the offset of the one before it (0 for the first). False (the I/O error recorded) if one
+// cannot be read back whole and intact; the log then ends without a final index, as after a crash,
+// and readers recover it by scanning.
+bool MatchLogWriter::read_published_index(std::vector<IndexEntry>& blocks, std::vector<KeyframeEntry>& keyframes) {
+  std::vector<std::vector<std::uint8_t>> records;  // newest first
+  for (std::uint64_t at = last_index_offset_; at != 0;) {
+    std::vector<std::uint8_t> rec(kRecordOverheadBytes);
+    std::string err = detail::read_all_at(fd_, rec.data(), 5, at);
+    if (err.empty()) {
+      rec.resize(kRecordOverheadBytes + load_bytes<std::uint32_t>(rec.data()));
+      if (rec.size() > offset_ - at) err = "its length runs past the end of the file";
+    }
+    if (err.empty()) err = detail::read_all_at(fd_, rec.data(), rec.size(), at);
+    if (err.empty()) {
+      const detail::RecordCheck check = detail::check_record(rec.data(), rec.size(), 0);
+      if (!check.ok) err = check.why;
+      else if (check.type != static_cast<std::uint8_t>(RecordType::index) || check.length < 17) err = "not an index record";
+    }
+    if (err.empty()) {
+      const std::uint32_t length = load_bytes<std::uint32_t>(rec.data());
+      const std::uint64_t blocks_end = 13 + 20ull * load_bytes<std::uint32_t>(rec.data() + 5 + 9);
+      if (blocks_end + 4 > length || blocks_end + 4 + 16ull * load_bytes<std::uint32_t>(rec.data() + 5 + blocks_end) != length)
+        err = "its length disagrees with its counts";
+    }
+    const std::uint64_t before = err.empty() ? load_bytes<std::uint64_t>(rec.data() + 5) : 0;
+    if (err.empty() && before >= at) err = "it does not point backwards";
+    if (!err.empty()) {
+      fail_io(fmt::format("reading back the index record at byte {} for the final index: {}", at, err));
+      return false;
+    }
+    records.push_back(std::move(rec));
+    at = before;
+  }
+  // Each record as write_index wrote it: previous offset, final flag, blocks, keyframes.
+  for (auto r = records.rbegin(); r != records.rend(); ++r) {
+    const std::uint8_t* p = r->data() + 5;
+    const std::uint32_t n = load_bytes<std::uint32_t>(p + 9);
+    const std::uint8_t* e = p + 13;
+    for (std::uint32_t k = 0; k < n; ++k, e += 20)
+      blocks.push_back({load_bytes<std::uint64_t>(e), load_bytes<std::uint64_t>(e + 12), load_bytes<std::uint32_t>(e + 8)});
+    const std::uint32_t nk = load_bytes<std::uint32_t>(e);
+    e += 4;
+    for (std::uint32_t k = 0; k < nk; ++k, e += 16)
+      keyframes.push_back({load_bytes<std::uint64_t>(e), load_bytes<std::uint64_t>(e + 8)});
+  }
+  return true;
 }
 
 void MatchLogWriter::write_record(RecordType type, const std::vector<std::uint8_t>& payload) {

@@ -120,6 +120,9 @@ struct WriterStats {
   std::uint64_t keyframe_bytes = 0;      // framed keyframe records in the file
   std::uint64_t keyframe_raw_bytes = 0;  // the same checkpoints uncompressed
   double max_keyframe_append_us = 0;     // the copy into a slot, on the tick thread
+  // The most block and keyframe entries the writer held in memory at once: those since the last
+  // periodic index record, so bounded by the index interval, not by the match's length.
+  std::uint64_t index_entries_high_water = 0;
 };
 
 class MatchLogWriter {
@@ -229,13 +232,15 @@ class MatchLogWriter {
     std::uint64_t first_tick, offset;
     std::uint32_t tick_count;
   };
-  std::vector<IndexEntry> index_all_;
-  std::size_t index_published_ = 0;  // entries already in a periodic index record
+  // The blocks and keyframes written since the last periodic index record. Those before it are in
+  // the file, and the final index reads them back (read_published_index): held here, they grew
+  // with the match (a block every half second) for as long as it ran.
+  std::vector<IndexEntry> index_unpublished_;
   struct KeyframeEntry {
     std::uint64_t tick, offset;
   };
-  std::vector<KeyframeEntry> kf_all_;
-  std::size_t kf_published_ = 0;
+  std::vector<KeyframeEntry> kf_unpublished_;
+  bool read_published_index(std::vector<IndexEntry>& blocks, std::vector<KeyframeEntry>& keyframes);
   std::uint64_t kf_pending_ = 0;     // a block ending at this keyframe tick was written; its keyframe is not decided yet
   std::vector<std::uint8_t> kf_payload_;
   std::uint64_t last_index_offset_ = 0;
@@ -252,6 +257,7 @@ class MatchLogWriter {
   std::atomic<std::uint64_t> sleeps_{0};
   std::atomic<std::uint64_t> max_fsync_ns_{0}, max_append_ns_{0};
   std::atomic<std::uint64_t> kf_appended_{0}, kf_written_{0}, kf_dropped_{0}, kf_bytes_{0}, kf_raw_bytes_{0}, max_kf_append_ns_{0};
+  std::atomic<std::uint64_t> index_held_high_{0};
   static constexpr std::size_t kHistBins = 1000;  // 0.1 µs bins, 0..100 µs
   std::unique_ptr<std::atomic<std::uint32_t>[]> hist_;
   std::atomic<std::uint64_t> hist_over_{0};
