@@ -312,6 +312,9 @@ void Fleet::leave_all() {
     if (auto r = m.bots[i]->leave_request()) {
       try {
         m.transports[m.bot_transport[i]]->send_join(*r);
+        // The server's command reader would otherwise keep this client's instance until the
+        // whole fleet's participant goes away.
+        m.transports[m.bot_transport[i]]->release_commands(r->client_id);
       } catch (const std::exception&) {
         ++m.send_errors;
       }

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstdio>
 #include <string>
+#include <thread>
 
 #include "message_equality.h"
 #include "transport_test_util.h"
@@ -190,6 +191,39 @@ TEST(DdsTransport, CommandArrivesWithEveryFieldIntact) {
   ASSERT_TRUE(test::send_until([&] { client.send_command(cmd); },
                                [&](std::chrono::milliseconds t) { return commands.wait_for_count(1, t); }));
   for (const Command& got : commands.items()) expect_same(got, cmd);
+}
+
+// A reader keeps an instance for every key it has seen until the key's writer releases it or goes
+// away: a client that leaves releases its command instance, and the server's reader forgets it
+// (one per client session, for the whole match, otherwise).
+TEST(DdsTransport, AReleasedClientsCommandInstanceIsForgottenByTheServer) {
+  Inbox<Command> commands;
+  ServerTransport server(loopback(138, "server"));
+  server.start({.on_join = {}, .on_command = [&](Command&& c) { commands.push(std::move(c)); }, .on_param_update = {}, .on_standby_request = {}, .on_primary_claim = {}});
+  ClientTransport client(loopback(138, "client"));
+  client.start({});
+  ASSERT_TRUE(client.wait_for_server(kWait));
+  Command a, b;
+  a.client_id = 42;
+  b.client_id = 43;
+  ASSERT_TRUE(test::send_until([&] { client.send_command(a); client.send_command(b); },
+                               [&](std::chrono::milliseconds t) {
+                                 return commands.wait_for_count(2, t) && server.holds_command_instance(42) &&
+                                        server.holds_command_instance(43);
+                               }));
+  EXPECT_FALSE(server.holds_command_instance(44));
+  EXPECT_FALSE(client.release_commands(44)) << "never written: nothing to release";
+
+  ASSERT_TRUE(client.release_commands(42));
+  const auto deadline = std::chrono::steady_clock::now() + kWait;
+  while (server.holds_command_instance(42) && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  EXPECT_FALSE(server.holds_command_instance(42)) << "the released client's instance is still held";
+  EXPECT_TRUE(server.holds_command_instance(43)) << "the other client's instance must stay";
+  // Released, the client id can still be written again (a new instance).
+  const std::size_t before = commands.items().size();
+  ASSERT_TRUE(test::send_until([&] { client.send_command(a); },
+                               [&](std::chrono::milliseconds t) { return commands.wait_for_count(before + 1, t); }));
 }
 
 TEST(DdsTransport, ParamUpdateAndReplyRoundTrip) {

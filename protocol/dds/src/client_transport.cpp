@@ -169,6 +169,14 @@ void ClientTransport::send_command(const Command& command) {
   write_sample(*impl_->command_writer, sample);
 }
 
+bool ClientTransport::release_commands(std::uint32_t client_id) {
+  v1::Command key;
+  key.client_id(client_id);
+  // The handle is looked up from the key; an instance never written is not registered.
+  return impl_->command_writer->unregister_instance(&key, eprosima::fastrtps::rtps::InstanceHandle_t()) ==
+         ReturnCode_t::RETCODE_OK;
+}
+
 // The writer appears with the first update, which then waits for the server's reader: the topic is
 // reliable but volatile, so an update written before its writer matched is never delivered.
 void ClientTransport::send_param_update(const ParamUpdate& update) {

@@ -37,6 +37,7 @@ struct ServerTransport::Impl {
   MatchCounter tick_inputs_matches;
 
   Participant participant;
+  dds::DataReader* command_reader = nullptr;
   dds::DataWriter* match_info_writer = nullptr;
   dds::DataWriter* join_reply_writer = nullptr;
   dds::DataWriter* param_reply_writer = nullptr;
@@ -143,7 +144,7 @@ void ServerTransport::start(Handlers handlers) {
   const Topics& t = s.participant.topics();
   dds::Subscriber& sub = s.participant.subscriber();
   s.participant.create_reader(sub, *t.join_request, kJoinRequestProfiles.reader, s.join_listener.get());
-  s.participant.create_reader(sub, *t.command, kCommandProfiles.reader, s.command_listener.get());
+  s.command_reader = &s.participant.create_reader(sub, *t.command, kCommandProfiles.reader, s.command_listener.get());
   s.participant.create_reader(sub, *t.param_update, kParamProfiles.reader, s.param_listener.get());
   s.create_standby_endpoints(handlers);
   s.started = true;
@@ -244,6 +245,13 @@ std::size_t ServerTransport::publish_contacts(const ContactPairs& contacts) {
     ch.contacts_writer = &s.participant.create_writer(*ch.publisher, *s.participant.topics().contacts,
                                                       kContactsProfiles.writer);
   return write(*ch.contacts_writer);
+}
+
+bool ServerTransport::holds_command_instance(std::uint32_t client_id) const {
+  if (impl_->command_reader == nullptr) return false;
+  v1::Command key;
+  key.client_id(client_id);
+  return impl_->command_reader->lookup_instance(&key) != dds::HANDLE_NIL;
 }
 
 TransportCounters ServerTransport::counters() const {

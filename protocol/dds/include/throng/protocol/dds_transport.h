@@ -124,6 +124,10 @@ class ServerTransport {
   void publish_primary_claim(const PrimaryClaim& claim);
 
   TransportCounters counters() const;
+  // Whether the command reader still holds an instance for the client: until the client's writer
+  // releases it (ClientTransport::release_commands) or goes away with its participant. For tests
+  // and diagnostics; false before start().
+  bool holds_command_instance(std::uint32_t client_id) const;
 
   // Waits (at most timeout) until every matched reader acknowledged what the reliable writers
   // sent — match info, join/param replies, stats. Called before exiting so the final "ended" match
@@ -185,6 +189,11 @@ class ClientTransport {
 
   void send_join(const JoinRequest& request);
   void send_command(const Command& command);
+  // After a client left: tells the server's command reader that this transport sends no more
+  // commands for the client (unregisters the client's instance), so the reader forgets the client
+  // instead of keeping its instance for the rest of the match. False if this transport never sent
+  // a command for the client.
+  bool release_commands(std::uint32_t client_id);
   // An operator's parameter change. The first call creates the writer (with DDS Security only an
   // operator identity may: TransportError otherwise) and waits up to 10 s for the server's reader.
   void send_param_update(const ParamUpdate& update);
