@@ -125,8 +125,10 @@ class ServerTransport {
 
   TransportCounters counters() const;
   // Whether the command reader still holds an instance for the client: until the client's writer
-  // releases it (ClientTransport::release_commands) or goes away with its participant. For tests
-  // and diagnostics; false before start().
+  // releases it (ClientTransport::release_commands). Fast DDS 2.9 forgets an instance only when it
+  // takes a sample of it, so a writer that goes away without releasing (a vanished client, or a
+  // participant deleted without it) leaves the instance for the rest of the match. For tests and
+  // diagnostics; false before start().
   bool holds_command_instance(std::uint32_t client_id) const;
 
   // Waits (at most timeout) until every matched reader acknowledged what the reliable writers
