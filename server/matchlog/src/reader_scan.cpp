@@ -159,20 +159,12 @@ std::string MatchLogReader::Scan::keyframe(const std::uint8_t* p, std::uint32_t 
 }
 
 std::string MatchLogReader::Scan::index(const std::uint8_t* p, std::uint32_t len) {
-  if (len < 13) return "index record shorter than its head";
+  const detail::IndexCounts counts = detail::index_counts(p, len, s.format_version);
+  if (!counts.why.empty()) return counts.why;
   const bool final = p[8] != 0;
-  const std::uint32_t n = load_bytes<std::uint32_t>(p + 9);
-  const std::uint64_t block_part = 13 + static_cast<std::uint64_t>(n) * 20;
-  std::uint32_t nk = 0;
-  if (s.format_version >= 2) {
-    if (len < block_part + 4) return "index record length disagrees with its count";
-    nk = load_bytes<std::uint32_t>(p + block_part);
-    if (block_part + 4 + static_cast<std::uint64_t>(nk) * 16 != len) return "index record length disagrees with its counts";
-  } else if (block_part != len) {
-    return "index record length disagrees with its count";
-  }
+  const std::uint32_t n = counts.blocks, nk = counts.keyframes;
   for (std::uint32_t k = 0; k < nk; ++k) {
-    const std::uint8_t* e = p + block_part + 4 + 16 * k;
+    const std::uint8_t* e = p + counts.keyframe_part + 16 * k;
     const std::uint64_t tick = load_bytes<std::uint64_t>(e), off = load_bytes<std::uint64_t>(e + 8);
     const auto it = std::lower_bound(s.keyframes.begin(), s.keyframes.end(), tick,
                                      [](const KeyframeInfo& x, std::uint64_t t) { return x.tick < t; });

@@ -9,6 +9,29 @@
 
 namespace throng::matchlog::detail {
 
+IndexCounts index_counts(const std::uint8_t* payload, std::uint32_t length, std::uint32_t format_version) {
+  IndexCounts c;
+  if (length < 13) {
+    c.why = "index record shorter than its head";
+    return c;
+  }
+  c.blocks = load_bytes<std::uint32_t>(payload + 9);
+  const std::uint64_t block_part = 13 + static_cast<std::uint64_t>(c.blocks) * 20;
+  if (format_version >= 2) {
+    if (length < block_part + 4) {
+      c.why = "index record length disagrees with its count";
+      return c;
+    }
+    c.keyframes = load_bytes<std::uint32_t>(payload + block_part);
+    c.keyframe_part = block_part + 4;
+    if (c.keyframe_part + static_cast<std::uint64_t>(c.keyframes) * 16 != length)
+      c.why = "index record length disagrees with its counts";
+  } else if (block_part != length) {
+    c.why = "index record length disagrees with its count";
+  }
+  return c;
+}
+
 RecordCheck check_record(const std::uint8_t* data, std::size_t size, std::size_t pos) {
   RecordCheck r;
   if (size - pos < kRecordOverheadBytes) {

@@ -16,6 +16,16 @@ struct RecordCheck {
 
 RecordCheck check_record(const std::uint8_t* data, std::size_t size, std::size_t pos);
 
+// An index record's payload layout (FORMAT.md "Index"): previous index offset, final flag, block
+// count and 20-byte block entries from byte 13, then (format version 2 on) a keyframe count and
+// 16-byte keyframe entries from `keyframe_part`. `why` is set when the length disagrees.
+struct IndexCounts {
+  std::uint32_t blocks = 0, keyframes = 0;
+  std::uint64_t keyframe_part = 0;  // offset of the keyframe entries
+  std::string why;
+};
+IndexCounts index_counts(const std::uint8_t* payload, std::uint32_t length, std::uint32_t format_version);
+
 // After damage at `from`: the offset of a valid record further on, 0 if there is none. Cheap
 // field checks before the CRC keep this linear on garbage (a tick block must continue after
 // last_tick, an index/end record can only point backwards).

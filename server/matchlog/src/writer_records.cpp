@@ -98,13 +98,8 @@ bool MatchLogWriter::read_published_index(std::vector<IndexEntry>& blocks, std::
     if (err.empty()) {
       const detail::RecordCheck check = detail::check_record(rec.data(), rec.size(), 0);
       if (!check.ok) err = check.why;
-      else if (check.type != static_cast<std::uint8_t>(RecordType::index) || check.length < 17) err = "not an index record";
-    }
-    if (err.empty()) {
-      const std::uint32_t length = load_bytes<std::uint32_t>(rec.data());
-      const std::uint64_t blocks_end = 13 + 20ull * load_bytes<std::uint32_t>(rec.data() + 5 + 9);
-      if (blocks_end + 4 > length || blocks_end + 4 + 16ull * load_bytes<std::uint32_t>(rec.data() + 5 + blocks_end) != length)
-        err = "its length disagrees with its counts";
+      else if (check.type != static_cast<std::uint8_t>(RecordType::index)) err = "not an index record";
+      else err = detail::index_counts(rec.data() + 5, check.length, kFormatVersion).why;
     }
     const std::uint64_t before = err.empty() ? load_bytes<std::uint64_t>(rec.data() + 5) : 0;
     if (err.empty() && before >= at) err = "it does not point backwards";
@@ -115,16 +110,15 @@ bool MatchLogWriter::read_published_index(std::vector<IndexEntry>& blocks, std::
     records.push_back(std::move(rec));
     at = before;
   }
-  // Each record as write_index wrote it: previous offset, final flag, blocks, keyframes.
+  // Each record as write_index wrote it (index_counts checked its layout above).
   for (auto r = records.rbegin(); r != records.rend(); ++r) {
     const std::uint8_t* p = r->data() + 5;
-    const std::uint32_t n = load_bytes<std::uint32_t>(p + 9);
+    const detail::IndexCounts counts = detail::index_counts(p, static_cast<std::uint32_t>(r->size() - kRecordOverheadBytes), kFormatVersion);
     const std::uint8_t* e = p + 13;
-    for (std::uint32_t k = 0; k < n; ++k, e += 20)
+    for (std::uint32_t k = 0; k < counts.blocks; ++k, e += 20)
       blocks.push_back({load_bytes<std::uint64_t>(e), load_bytes<std::uint64_t>(e + 12), load_bytes<std::uint32_t>(e + 8)});
-    const std::uint32_t nk = load_bytes<std::uint32_t>(e);
-    e += 4;
-    for (std::uint32_t k = 0; k < nk; ++k, e += 16)
+    e = p + counts.keyframe_part;
+    for (std::uint32_t k = 0; k < counts.keyframes; ++k, e += 16)
       keyframes.push_back({load_bytes<std::uint64_t>(e), load_bytes<std::uint64_t>(e + 8)});
   }
   return true;
