@@ -170,6 +170,120 @@ TEST(MatchCheckpoint, RestoredMatchContinuesBitIdentically) {
   }
 }
 
+// A match that hosts joins and leaves for hours holds the clients it has, not every client it had:
+// a departed client's record goes with it, and the checkpoint (version 5) carries the connected
+// clients and the next client id, so ids are still never reused after a restore. Version 4, still
+// written on request, lists every id ever given out and restores to the same match.
+TEST(MatchCheckpoint, HoldsTheConnectedClientsAndTheNextIdOnly) {
+  const MatchConfig config = test::small_config();
+  Match a(small_battle(), config, "a");
+  Outbox out;
+  const protocol::JoinReply stays = test::join_one(a, out, 1, "stays");
+  ASSERT_EQ(stays.result, protocol::JoinResult::accepted);
+  Bytes early;
+  a.save_checkpoint(early);
+  constexpr std::uint32_t kSessions = 60;
+  for (std::uint32_t k = 0; k < kSessions; ++k) {
+    const protocol::JoinReply r = test::join_one(a, out, 100 + k, "passer-by");
+    a.inputs().push(test::command(stays.client_id, stays.entity, k + 1, 0.0f, 0.0f));  // stays active: no timeout
+    ASSERT_EQ(r.client_id, stays.client_id + 1 + k) << "ids are never reused";
+    a.inputs().push(test::command(r.client_id, r.entity, 1, 0.5f, 0.0f));
+    a.tick(out);
+    a.inputs().push(test::leave_request(100 + k, r.client_id));
+    a.tick(out);
+    ASSERT_EQ(out.client_events.size(), 1u);
+    EXPECT_EQ(out.client_events[0].kind, ClientEvent::Kind::left);
+    EXPECT_EQ(out.client_events[0].commands_accepted, 1u) << "the departure carries the counts out";
+  }
+  ASSERT_EQ(a.client_count(), 1u);
+  Bytes v5, v4;
+  a.save_checkpoint(v5);
+  a.save_checkpoint(v4, SaveOptions{.format_version = 4});
+  EXPECT_EQ(checkpoint_sections(v5).version, 5u);
+  EXPECT_EQ(checkpoint_sections(v4).version, 4u);
+  // A client record with its owner is over 130 bytes: version 4 carries kSessions of them more.
+  // Version 5's match section grew by the next id alone, give or take the AI's regrouped bodies.
+  const auto match_bytes = [](const Bytes& b) { return checkpoint_sections(b).match_state.size(); };
+  EXPECT_GT(match_bytes(v4), match_bytes(v5) + kSessions * 130);
+  EXPECT_LT(match_bytes(v5), match_bytes(early) + 200) << "departed clients left something in the checkpoint";
+
+  // Restored from either version, the match continues alike: the same next id, the same replies
+  // to a command and a leave from a departed client, the same state.
+  Match b(small_battle(), config, "b"), c(small_battle(), config, "c");
+  b.restore_checkpoint(v5);
+  c.restore_checkpoint(v4);
+  Bytes b5, c5;
+  b.save_checkpoint(b5);
+  c.save_checkpoint(c5);
+  EXPECT_EQ(b5, v5);
+  EXPECT_EQ(c5, v5);
+  const std::uint32_t departed = stays.client_id + 1;
+  std::vector<std::string> texts;
+  for (Match* m : {&a, &b, &c}) {
+    Outbox o;
+    m->inputs().push(test::command(departed, 0, 9, 0.5f, 0.0f));
+    m->inputs().push(test::leave_request(100, departed));
+    m->inputs().push(test::join_request(999, "newcomer"));
+    const TickReport& r = m->tick(o);
+    EXPECT_EQ(m->rejected_by_reason()[static_cast<std::size_t>(RejectReason::unknown_client)], 1u);
+    ASSERT_EQ(o.join_replies.size(), 2u);
+    EXPECT_EQ(o.join_replies[0].result, protocol::JoinResult::left);
+    EXPECT_EQ(o.join_replies[1].client_id, stays.client_id + kSessions + 1);
+    texts.push_back(outbox_text(o, r));
+  }
+  EXPECT_EQ(texts[1], texts[0]);
+  EXPECT_EQ(texts[2], texts[0]);
+}
+
+// A version 5 checkpoint that lists a client not connected, out of order or at or above the next
+// id is refused, and the match is unchanged.
+TEST(MatchCheckpoint, RefusesClientListsThatVersionFiveCannotHold) {
+  const MatchConfig config = test::small_config();
+  Match a(small_battle(), config, "a");
+  Outbox out;
+  test::join_one(a, out, 1, "one");
+  test::join_one(a, out, 2, "two");
+  Bytes good;
+  a.save_checkpoint(good);
+  const auto sec = checkpoint_sections(good);
+  // The next id sits right before the client count; find it from the known values (3, then 2).
+  const std::size_t match_at = static_cast<std::size_t>(sec.match_state.data() - good.data());
+  std::size_t at = 0;
+  for (std::size_t i = match_at; i + 8 <= match_at + sec.match_state.size(); ++i) {
+    std::uint32_t next = 0, count = 0;
+    std::memcpy(&next, &good[i], 4);
+    std::memcpy(&count, &good[i + 4], 4);
+    std::uint32_t first_id = 0;
+    if (i + 12 <= good.size()) std::memcpy(&first_id, &good[i + 8], 4);
+    if (next == 3 && count == 2 && first_id == 1) {
+      at = i;
+      break;
+    }
+  }
+  ASSERT_NE(at, 0u) << "the client list was not found";
+  Match b(small_battle(), config, "b");
+  Bytes before;
+  b.save_checkpoint(before);
+  for (std::uint32_t bad_next : {0u, 1u, 2u}) {
+    Bytes bad = good;
+    std::memcpy(&bad[at], &bad_next, 4);
+    EXPECT_THROW(b.restore_checkpoint(bad), CheckpointError) << "next id " << bad_next;
+  }
+  Bytes swapped = good;  // the second client's id made equal to the first's
+  const std::uint32_t one = 1;
+  const std::size_t second_id_at = at + 8 + 132 + 3 + 2;  // a record: 132 bytes and its strings ("one", "c1")
+  std::uint32_t was = 0;
+  std::memcpy(&was, &swapped[second_id_at], 4);
+  ASSERT_EQ(was, 2u) << "record layout";
+  std::memcpy(&swapped[second_id_at], &one, 4);
+  EXPECT_THROW(b.restore_checkpoint(swapped), CheckpointError);
+  Bytes after;
+  b.save_checkpoint(after);
+  EXPECT_EQ(after, before);
+  b.restore_checkpoint(good);
+  EXPECT_EQ(b.client_count(), 2u);
+}
+
 // The replay settings of matchlog::ResimOptions (exact_interest = false).
 MatchConfig fast_interest(MatchConfig c) {
   c.interest.radius_m = 0.01;
@@ -384,8 +498,8 @@ TEST_F(MatchCheckpointErrors, WrongMagicVersionAndTrailingBytes) {
   bad[1] ^= 0x40;
   expect_error(target, bad, "magic");
   bad = saved;
-  bad[4] = 5;
-  expect_error(target, bad, "version 5, this build reads versions 1 to 4");
+  bad[4] = 6;
+  expect_error(target, bad, "version 6, this build reads versions 1 to 5");
   bad = saved;
   bad[4] = 0;
   expect_error(target, bad, "version 0");
@@ -429,7 +543,7 @@ TEST(MatchCheckpoint, CompactAiHoldsTheSameStateAsTheAiWithIds) {
   Driver d;
   for (int t = 0; t < 130; ++t) step(a, d, out);
   Bytes v4, v3;
-  a.save_checkpoint(v4);
+  a.save_checkpoint(v4, SaveOptions{.format_version = 4});
   a.save_checkpoint(v3, SaveOptions{.format_version = 3});
   EXPECT_EQ(checkpoint_sections(v4).version, 4u);
   EXPECT_EQ(checkpoint_sections(v3).version, 3u);
@@ -447,8 +561,8 @@ TEST(MatchCheckpoint, CompactAiHoldsTheSameStateAsTheAiWithIds) {
   b.restore_checkpoint(v4);
   c.restore_checkpoint(v3);
   Bytes b4, c4;
-  b.save_checkpoint(b4);
-  c.save_checkpoint(c4);
+  b.save_checkpoint(b4, SaveOptions{.format_version = 4});
+  c.save_checkpoint(c4, SaveOptions{.format_version = 4});
   EXPECT_EQ(b4, v4);
   EXPECT_EQ(c4, v4);
   Driver db = d, dc = d;
@@ -588,9 +702,28 @@ TEST(MatchCheckpointClients, InconsistentClientRecordsAreRefused) {
   // The client marked not connected (its record: entity, faction, then the connected flag): its
   // snapshot baselines are then a stranger's, and without them the body it controls is (found by
   // fuzzing: the builder and the clients disagreed and the next tick threw).
+  // Version 5 holds connected clients only: the record is refused as such. Versions 3 and 4 also
+  // hold departed clients, so there the flag is checked against the baselines and the bodies.
   {
     Bytes bad = saved;
     bad[static_cast<std::size_t>(&*rec - saved.data()) + partition.size() + 5] = 0;
+    try {
+      target.restore_checkpoint(bad);
+      ADD_FAILURE() << "accepted a departed client in version 5";
+    } catch (const CheckpointError& e) {
+      EXPECT_NE(std::string(e.what()).find("client 1 is not connected (version 5 holds connected clients only)"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  Bytes v4;
+  m.save_checkpoint(v4, SaveOptions{.format_version = 4});
+  const CheckpointSections sec4 = checkpoint_sections(v4);
+  const auto rec4 = std::search(sec4.match_state.begin(), sec4.match_state.end(), pattern.begin(), pattern.end());
+  ASSERT_NE(rec4, sec4.match_state.end()) << "the client's record was not found in version 4";
+  {
+    Bytes bad = v4;
+    bad[static_cast<std::size_t>(&*rec4 - v4.data()) + partition.size() + 5] = 0;
     try {
       target.restore_checkpoint(bad);
       ADD_FAILURE() << "accepted baselines of a client that is not connected";

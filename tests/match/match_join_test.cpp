@@ -275,16 +275,64 @@ TEST(MatchJoin, TakeoverSetsPlayerParamsAndLeaveRestoresThem) {
   EXPECT_EQ(m.client_count(), 0u);
   EXPECT_EQ(m.npc_count(), 40u);
 
-  // A repeated leave is answered `left` again, without a second event.
-  m.inputs().push(leave_request(5, reply.client_id));
+  // A repeated leave is answered `left` again, without a second event. The match no longer holds
+  // the client's record, so it cannot tell the repeat from any other leave naming a departed id:
+  // each gets the same answer, which changes nothing.
+  for (std::uint64_t nonce : {5u, 6u}) {
+    m.inputs().push(leave_request(nonce, reply.client_id));
+    const TickReport& again = m.tick(out);
+    ASSERT_EQ(out.join_replies.size(), 1u);
+    EXPECT_EQ(out.join_replies[0].result, JoinResult::left);
+    EXPECT_EQ(out.join_replies[0].client_nonce, nonce);
+    EXPECT_EQ(out.join_replies[0].client_id, reply.client_id);
+    EXPECT_EQ(out.join_replies[0].entity, 0u);
+    EXPECT_NE(out.join_replies[0].reason.find("not connected"), std::string::npos) << out.join_replies[0].reason;
+    EXPECT_TRUE(out.client_events.empty());
+    EXPECT_EQ(again.leaves, 0u);
+  }
+  // An id never given out is refused.
+  m.inputs().push(leave_request(7, reply.client_id + 1));
   m.tick(out);
   ASSERT_EQ(out.join_replies.size(), 1u);
-  EXPECT_EQ(out.join_replies[0].result, JoinResult::left);
-  EXPECT_TRUE(out.client_events.empty());
-  // A leave naming the client with another nonce is refused.
-  m.inputs().push(leave_request(6, reply.client_id));
-  m.tick(out);
   EXPECT_EQ(out.join_replies[0].result, JoinResult::bad_request);
+}
+
+// A leave that carries a connected client's nonce but comes from another participant is never
+// answered, whatever client id it names (its own, a departed one, one never given out): every
+// answer is published on the nonce's key and would replace the connected client's accepted reply.
+TEST(MatchJoin, ALeaveOnSomeoneElsesNonceIsNeverAnswered) {
+  protocol::ParticipantKey owner, stranger;
+  owner.bytes = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12};
+  stranger.bytes = {9, 9, 9, 4, 5, 6, 7, 8, 9, 10, 11, 13};
+  Match m(two_armies(), small_config(), "m");
+  Outbox out;
+  const protocol::JoinReply gone = test::join_one(m, out, 77);
+  m.inputs().push(leave_request(77, gone.client_id));
+  m.tick(out);
+  protocol::JoinRequest j = join_request(500, "victim");
+  j.sender = owner;
+  m.inputs().push(std::move(j));
+  m.tick(out);
+  ASSERT_EQ(out.join_replies.size(), 1u);
+  const std::uint32_t victim = out.join_replies[0].client_id;
+  for (std::uint32_t named : {gone.client_id, victim + 100}) {
+    protocol::JoinRequest leave = leave_request(500, named);
+    leave.sender = stranger;
+    m.inputs().push(std::move(leave));
+    const TickReport& r = m.tick(out);
+    EXPECT_TRUE(out.join_replies.empty()) << "client " << named << ": " << out.join_replies[0].reason;
+    EXPECT_EQ(r.joins_foreign, 1u);
+    EXPECT_EQ(r.joins_refused, 0u);
+    EXPECT_EQ(m.client_count(), 1u);
+  }
+  // The owner naming an id never given out is told so, on its own nonce.
+  protocol::JoinRequest own = leave_request(500, victim + 100);
+  own.sender = owner;
+  m.inputs().push(std::move(own));
+  m.tick(out);
+  ASSERT_EQ(out.join_replies.size(), 1u);
+  EXPECT_EQ(out.join_replies[0].result, JoinResult::bad_request);
+  EXPECT_EQ(m.client_count(), 1u);
 }
 
 TEST(MatchJoin, PlayerArchetypeImportanceIsUsedWhenTheTableHasOne) {

@@ -1,6 +1,7 @@
 #include "client_registry.h"
 
 #include <algorithm>
+#include <stdexcept>
 #include <utility>
 
 #include <fmt/format.h>
@@ -13,8 +14,9 @@ std::string client_partition(std::uint32_t id, const std::string& identity) {
 
 ClientRecord& ClientRegistry::add(std::uint64_t nonce, std::string name, const protocol::ParticipantKey& owner,
                                   const std::string& identity) {
-  ClientRecord& r = records_.emplace_back();
-  r.id = static_cast<std::uint32_t>(records_.size());
+  const std::uint32_t id = next_id_++;
+  ClientRecord& r = records_[id];
+  r.id = id;
   r.nonce = nonce;
   r.name = std::move(name);
   r.owner = owner;
@@ -26,13 +28,13 @@ ClientRecord& ClientRegistry::add(std::uint64_t nonce, std::string name, const p
 }
 
 ClientRecord* ClientRegistry::find(std::uint32_t id) {
-  if (id == 0 || id > records_.size()) return nullptr;
-  return &records_[id - 1];
+  auto it = records_.find(id);
+  return it == records_.end() ? nullptr : &it->second;
 }
 
 const ClientRecord* ClientRegistry::find(std::uint32_t id) const {
-  if (id == 0 || id > records_.size()) return nullptr;
-  return &records_[id - 1];
+  auto it = records_.find(id);
+  return it == records_.end() ? nullptr : &it->second;
 }
 
 ClientRecord* ClientRegistry::find_connected(std::uint32_t id) {
@@ -49,20 +51,37 @@ void ClientRegistry::disconnect(std::uint32_t id) {
   ClientRecord* r = find_connected(id);
   if (r == nullptr) return;
   r->connected = false;
+  departed_.push_back(id);
   auto it = std::lower_bound(connected_.begin(), connected_.end(), id);
   if (it != connected_.end() && *it == id) connected_.erase(it);
   auto n = by_nonce_.find(r->nonce);
   if (n != by_nonce_.end() && n->second == id) by_nonce_.erase(n);
 }
 
-void ClientRegistry::restore(std::deque<ClientRecord> records) {
-  records_ = std::move(records);
+void ClientRegistry::forget_departed() {
+  for (std::uint32_t id : departed_) records_.erase(id);
+  departed_.clear();
+}
+
+void ClientRegistry::restore(std::uint32_t next_id, std::vector<ClientRecord> connected) {
+  std::uint32_t previous = 0;
+  for (const ClientRecord& r : connected) {
+    if (!r.connected || r.id <= previous || r.id >= next_id) {
+      throw std::invalid_argument(fmt::format("ClientRegistry::restore: client {} is not a connected client in id order below {}",
+                                              r.id, next_id));
+    }
+    previous = r.id;
+  }
+  records_.clear();
   connected_.clear();
+  departed_.clear();
   by_nonce_.clear();
-  for (const ClientRecord& r : records_) {
-    if (!r.connected) continue;
-    connected_.push_back(r.id);  // records are in id order: stays sorted
+  next_id_ = next_id;
+  for (ClientRecord& r : connected) {
+    connected_.push_back(r.id);  // in id order: stays sorted
     by_nonce_[r.nonce] = r.id;   // a later client with the same nonce wins, as in add()
+    const std::uint32_t id = r.id;
+    records_.emplace(id, std::move(r));
   }
 }
 

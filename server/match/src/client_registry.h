@@ -1,11 +1,14 @@
 #pragma once
-// The clients of one match: ids from 1, never reused; lookups by id (dense, O(1)) and by nonce
-// (connected clients only); the connected ids in ascending order (the snapshot and camera order).
+// The clients of one match: ids from 1, never reused; lookups by id and by nonce; the connected ids
+// in ascending order (the snapshot and camera order). Only connected clients are kept: a departed
+// client's record goes at the end of the tick it left in (forget_departed), so that a match hosting
+// joins and leaves for hours holds memory for the clients it has, not for every client it had.
+// What a departed client leaves behind is its departure event (ClientEvent), which carries its
+// command counts to the server's summary.
 #include <cstdint>
-#include <deque>
 #include <map>
-#include <span>
 #include <string>
+#include <span>
 #include <vector>
 
 #include "throng/core/object_id.h"
@@ -49,29 +52,38 @@ struct ClientRecord {
 class ClientRegistry {
  public:
   // A new connected client with the next id, owned by `owner`, its partition named from
-  // `identity` (client_partition). The reference stays valid (deque).
+  // `identity` (client_partition). The reference stays valid until the record is forgotten.
   ClientRecord& add(std::uint64_t nonce, std::string name, const protocol::ParticipantKey& owner,
                     const std::string& identity);
-  // Any client ever seen (connected or not); nullptr for an id never given out.
+  // A connected client, or one that disconnected since the last forget_departed(); nullptr else.
   ClientRecord* find(std::uint32_t id);
   const ClientRecord* find(std::uint32_t id) const;
   ClientRecord* find_connected(std::uint32_t id);
   ClientRecord* find_connected_nonce(std::uint64_t nonce);
+  // The record stays readable (find) until forget_departed(): the tick that disconnects a client
+  // still reports its departure from it.
   void disconnect(std::uint32_t id);
+  // Drops the records of the clients disconnected since the last call (the match's tick ends with it).
+  void forget_departed();
+  // An id given out before (connected or departed), as opposed to one never seen.
+  bool was_given_out(std::uint32_t id) const { return id != 0 && id < next_id_; }
 
   std::span<const std::uint32_t> connected_ids() const { return connected_; }
   std::size_t connected_count() const { return connected_.size(); }
-  std::uint32_t next_id() const { return static_cast<std::uint32_t>(records_.size()) + 1u; }
+  std::uint32_t next_id() const { return next_id_; }
 
-  // Checkpoints: every client ever seen, index = id - 1. restore() replaces them and rebuilds the
-  // connected list and the nonce index the same way add() / disconnect() leave them.
-  const std::deque<ClientRecord>& records() const { return records_; }
-  void restore(std::deque<ClientRecord> records);
+  // Checkpoints: the records held (between ticks: the connected clients), in id order. restore()
+  // replaces them and rebuilds the connected list and the nonce index as add() leaves them; every
+  // record given must be connected, with ascending ids below next_id.
+  const std::map<std::uint32_t, ClientRecord>& records() const { return records_; }
+  void restore(std::uint32_t next_id, std::vector<ClientRecord> connected);
 
  private:
-  std::deque<ClientRecord> records_;  // index = id - 1
+  std::map<std::uint32_t, ClientRecord> records_;  // by id; node-based: add()'s reference survives other adds
   std::vector<std::uint32_t> connected_;  // ascending
+  std::vector<std::uint32_t> departed_;   // disconnected since the last forget_departed()
   std::map<std::uint64_t, std::uint32_t> by_nonce_;  // connected clients only
+  std::uint32_t next_id_ = 1;
 };
 
 }  // namespace throng::match

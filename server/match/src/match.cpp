@@ -119,6 +119,7 @@ const TickReport& Match::tick(Outbox& out) {
   const auto t4 = clock::now();
   m.build_snapshots(tick, out);
   m.build_contacts(tick, out);
+  m.clients.forget_departed();  // this tick's departures are in its outbox; the match holds connected clients only
   const auto t5 = clock::now();
 
   if (m.info_dirty) {

@@ -7,8 +7,9 @@
 // Saved (match section): shutdown flag and the pending match-info republish, reject counters and
 // the accepted total, per body (dense order) the yaw and the controlling client, the match info's
 // mutable part (state, param_version, policy hash, roster faction / character type, scenery
-// softness), every client record ever seen (ids, nonce, name, partition, entity, sequences, rate
-// counter, camera, the NPC parameters to restore, brace state, command counters), the NPC AI
+// softness), the next client id and the connected clients' records (ids, nonce, name, partition,
+// entity, sequences, rate counter, camera, the NPC parameters to restore, brace state, command
+// counters, owner), the NPC AI
 // (npc_ai_state.cpp) and the snapshot builder's per-client baselines (snapshot_builder.cpp).
 // Derived on restore from the world: id_values (the AI aligns its own order with it). Fixed by scene/config (checked by
 // the header's hashes, not saved): roster_of_slot, timeout_ticks, player_importance, the rest of
@@ -43,7 +44,10 @@ constexpr std::uint32_t kMagic = 0x4B434D54;  // "TMCK" in the file
 // 2: the interest settings hashed apart from the rest of the config, and the match and snapshot
 // sections length-prefixed (a reader can skip the baselines). 1: still restored (same config only).
 // Versions 1 and 2 restore with owners of all zeros, which is what the inputs logged with them carry.
-constexpr std::uint32_t kVersion = 4;
+// 5: the connected clients only, after the next client id (a departed client's record is gone
+// with it: client_registry.h). Versions 1 to 4 hold every client ever seen; restoring them keeps
+// the connected ones.
+constexpr std::uint32_t kVersion = 5;
 constexpr std::uint32_t kOldestVersion = 1;
 constexpr std::size_t kMaxClientsEver = 1u << 24;
 
@@ -219,7 +223,7 @@ void Match::Impl::compute_checkpoint_hashes() {
 
 void Match::Impl::save_checkpoint(std::vector<std::uint8_t>& out, SaveOptions options) const {
   const std::uint32_t version = options.format_version == 0 ? kVersion : options.format_version;
-  if (version != kVersion && version != 3) {
+  if (version != kVersion && version != 4 && version != 3) {
     throw std::invalid_argument("save_checkpoint: format_version " + std::to_string(options.format_version) +
                                 ", this build writes 3 and " + std::to_string(kVersion));
   }
@@ -254,15 +258,33 @@ void Match::Impl::save_checkpoint(std::vector<std::uint8_t>& out, SaveOptions op
   w.put_array(info.roster.character_type);
   w.put(static_cast<std::uint32_t>(info.scenery.size()));
   for (const protocol::SceneryShape& s : info.scenery) w.put(s.softness);
-  const std::deque<ClientRecord>& records = clients.records();
-  w.put(static_cast<std::uint32_t>(records.size()));
-  for (const ClientRecord& c : records) put_client(w, c);
+  // Between ticks the registry holds exactly the connected clients. Versions 3 and 4 list every id
+  // ever given out: the departed ones are written as records of nobody (not connected, no entity).
+  // Visits the saved records in id order without allocating (a warm save allocates nothing).
+  const auto for_each_saved = [this, version](auto&& visit) {
+    if (version >= 5) {
+      for (const auto& [id, c] : clients.records()) visit(c);
+      return;
+    }
+    ClientRecord departed;
+    for (std::uint32_t id = 1; id < clients.next_id(); ++id) {
+      const ClientRecord* c = clients.find(id);
+      departed.id = id;
+      visit(c != nullptr ? *c : departed);
+    }
+  };
+  const auto saved_count =
+      static_cast<std::uint32_t>(version >= 5 ? clients.records().size() : clients.next_id() - 1);
+  if (version >= 5) w.put(clients.next_id());
+  w.put(saved_count);
+  for_each_saved([&w](const ClientRecord& c) { put_client(w, c); });
   ai.save_state(w, version >= 4 ? NpcAi::AiStateForm::compact : NpcAi::AiStateForm::with_ids);
   // Version 3's trailer: each client's owner, then the client count again (so the section still
   // reads as version 2's up to here).
-  for (const ClientRecord& c : records)
+  for_each_saved([&w](const ClientRecord& c) {
     for (std::uint8_t b : c.owner.bytes) w.put(b);
-  w.put(static_cast<std::uint32_t>(records.size()));
+  });
+  w.put(saved_count);
   close_section();
 
   len_at = w.size();
@@ -329,14 +351,29 @@ void restore_match(Impl& m, std::span<const std::uint8_t> bytes, RestoreOptions 
   std::vector<float> softness(r.get_count("scenery softness", m.info.scenery.size(), 4));
   if (softness.size() != m.info.scenery.size()) r.fail("scenery count differs from this match's");
   for (float& s : softness) s = r.get<float>("scenery softness");
-  std::deque<ClientRecord> records;
+  // Version 5: the next id, then the connected clients in ascending id order. Before: every client
+  // ever seen, ids 1, 2, 3, ...; the next id follows the last.
+  std::uint32_t next_id = 1;
+  if (l.version >= 5) {
+    next_id = r.get<std::uint32_t>("next client id");
+    if (next_id == 0 || next_id > kMaxClientsEver + 1) r.fail("next client id " + std::to_string(next_id));
+  }
+  std::vector<ClientRecord> records;
   const std::uint32_t n_clients = r.get_count("clients", kMaxClientsEver, 100);
   for (std::size_t k = 0; k < n_clients; ++k) {
     records.push_back(get_client(r));
-    if (records.back().id != k + 1) r.fail("client ids are not 1, 2, 3, ...");
+    const ClientRecord& c = records.back();
+    if (l.version < 5) {
+      if (c.id != k + 1) r.fail("client ids are not 1, 2, 3, ...");
+    } else if (!c.connected) {
+      r.fail("client " + std::to_string(c.id) + " is not connected (version 5 holds connected clients only)");
+    } else if (c.id >= next_id || (k > 0 && c.id <= records[k - 1].id)) {
+      r.fail("client ids are not ascending below the next client id " + std::to_string(next_id));
+    }
   }
+  if (l.version < 5) next_id = static_cast<std::uint32_t>(records.size()) + 1;
   for (std::uint32_t c : their_controller) {
-    if (c > records.size()) r.fail("a body is controlled by client " + std::to_string(c) + ", never seen");
+    if (c >= next_id) r.fail("a body is controlled by client " + std::to_string(c) + ", never seen");
   }
   NpcAi staged_ai = m.ai;
   staged_ai.restore_state(r, n, l.version >= 4 ? NpcAi::AiStateForm::compact : NpcAi::AiStateForm::with_ids);
@@ -369,6 +406,13 @@ void restore_match(Impl& m, std::span<const std::uint8_t> bytes, RestoreOptions 
     }
   }
   if (l.version >= 2 && r.remaining() != 0) r.fail(std::to_string(r.remaining()) + " bytes after the match section");
+  // Only the connected clients stay (versions 1 to 4 hold the departed ones too).
+  std::erase_if(records, [](const ClientRecord& c) { return !c.connected; });
+  // The record of a client id, by binary search (ids ascend); nullptr for one not connected.
+  const auto connected_record = [&records](std::uint32_t id) -> const ClientRecord* {
+    auto it = std::lower_bound(records.begin(), records.end(), id, [](const ClientRecord& c, std::uint32_t v) { return c.id < v; });
+    return it != records.end() && it->id == id ? &*it : nullptr;
+  };
 
   // Throws before changing anything (the AI's bodies checked against the decoded world section
   // first); the last thing that may throw.
@@ -376,19 +420,19 @@ void restore_match(Impl& m, std::span<const std::uint8_t> bytes, RestoreOptions 
     staged_ai.bind_bodies(ids);
     // Clients and the bodies they control agree (found by fuzzing: a connected client whose entity
     // the world does not hold made the next snapshot read outside the position arrays).
-    std::vector<std::uint32_t> controls(records.size() + 1, 0);  // client id -> bodies controlled
+    std::vector<std::uint32_t> controls(records.size(), 0);  // connected client (records' order) -> bodies controlled
     for (std::size_t d = 0; d < ids.size(); ++d) {
       const std::uint32_t c = their_controller[d];
       if (c == 0) continue;
-      const ClientRecord& rec = records[c - 1];
-      if (!rec.connected || rec.entity != ids[d]) {
+      const ClientRecord* rec = connected_record(c);
+      if (rec == nullptr || rec->entity != ids[d]) {
         throw CheckpointError("checkpoint: body " + std::to_string(ids[d].value) + " is controlled by client " +
                               std::to_string(c) + ", which does not control it");
       }
-      ++controls[c];
+      ++controls[static_cast<std::size_t>(rec - records.data())];
     }
     for (const ClientRecord& rec : records) {
-      if (rec.connected && controls[rec.id] != 1) {
+      if (controls[static_cast<std::size_t>(&rec - records.data())] != 1) {
         throw CheckpointError("checkpoint: connected client " + std::to_string(rec.id) + " does not control its entity " +
                               std::to_string(rec.entity.value));
       }
@@ -409,7 +453,7 @@ void restore_match(Impl& m, std::span<const std::uint8_t> bytes, RestoreOptions 
   m.info.roster.faction = std::move(roster_faction);
   m.info.roster.character_type = std::move(roster_type);
   for (std::size_t s = 0; s < softness.size(); ++s) m.info.scenery[s].softness = softness[s];
-  m.clients.restore(std::move(records));
+  m.clients.restore(next_id, std::move(records));
   m.ai = std::move(staged_ai);
   m.snapshots = std::move(staged_snapshots);
   const World& w = m.world();

@@ -118,7 +118,24 @@ void Match::Impl::handle_join(const protocol::JoinRequest& r, std::uint64_t tick
 }
 
 void Match::Impl::handle_leave(const protocol::JoinRequest& r, std::uint64_t tick, Outbox& out) {
-  ClientRecord* c = clients.find(r.client_id);
+  // Whatever id it names, a leave carrying a connected client's nonce from another participant gets
+  // no reply: the reply topic is keyed by nonce, and any reply would replace that client's own.
+  const ClientRecord* nonce_owner = clients.find_connected_nonce(r.client_nonce);
+  if (nonce_owner != nullptr && nonce_owner->owner != r.sender) {
+    ++report.joins_foreign;
+    return;
+  }
+  ClientRecord* c = clients.find_connected(r.client_id);
+  if (c == nullptr && nonce_owner == nullptr && clients.was_given_out(r.client_id)) {
+    // Left or timed out before (a repeated leave, or a leave after the timeout): its record is
+    // gone, so there is no owner to check, but the nonce is no connected client's. The reply
+    // changes nothing and says what the roster says: the id is not connected.
+    protocol::JoinReply reply = refusal(r, protocol::JoinResult::left,
+                                        fmt::format("client {} is not connected (it left or timed out)", r.client_id), tick);
+    reply.client_id = r.client_id;
+    out.join_replies.push_back(std::move(reply));
+    return;
+  }
   if (c == nullptr || c->nonce != r.client_nonce) {
     out.join_replies.push_back(refusal(r, protocol::JoinResult::bad_request,
                                        fmt::format("leave for unknown client {}", r.client_id), tick));
@@ -129,16 +146,13 @@ void Match::Impl::handle_leave(const protocol::JoinRequest& r, std::uint64_t tic
     ++report.joins_foreign;
     return;
   }
-  const bool was_connected = c->connected;
   protocol::JoinReply reply = accepted_reply(*c, tick);
   reply.result = protocol::JoinResult::left;
   reply.reason = "left";
-  if (was_connected) {
-    release(*c);
-    out.client_events.push_back(ClientEvent{ClientEvent::Kind::left, c->id, c->entity.value, c->partition, c->name,
-                                                  c->commands_accepted, c->commands_rejected});
-    ++report.leaves;
-  }
+  release(*c);
+  out.client_events.push_back(ClientEvent{ClientEvent::Kind::left, c->id, c->entity.value, c->partition, c->name,
+                                                c->commands_accepted, c->commands_rejected});
+  ++report.leaves;
   out.join_replies.push_back(std::move(reply));
 }
 

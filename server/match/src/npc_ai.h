@@ -105,7 +105,7 @@ class NpcAi {
 
   // Checkpoints (npc_ai_state.cpp): the per-body brain (group, formation slot, charged enemy),
   // the groups (anchors, morale level, last centroids), the faction slots and the tick count.
-  // The layout has two forms (`AiStateForm`): match checkpoints of version 4 hold `compact`,
+  // The layout has two forms (`AiStateForm`): match checkpoints of version 4 and later hold `compact`,
   // older ones `with_ids`. restore_state replaces this AI's state (n bodies) or throws
   // CheckpointError part-way, so callers restore into a copy and move it in once everything else
   // has decoded too.
