@@ -90,6 +90,7 @@ int main(int argc, char** argv) {
   for (std::uint64_t t = 1; t <= 40; ++t) {
     if (t == 1) m.inputs().push(match::test::join_request(1, "corpus"));
     if (t == 3) m.inputs().push(match::test::join_request(2, "second"));
+    if (t == 15) m.inputs().push(match::test::leave_request(2, 2));  // checkpoints then skip a departed id
     if (client != 0) {
       protocol::Command c = match::test::command(client, entity, ++seq, 0.6f, t % 2 ? 0.3f : -0.3f);
       c.last_seen_tick = t - 1;

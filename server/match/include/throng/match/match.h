@@ -134,8 +134,9 @@ struct SaveOptions {
   // checkpoint, and only a replay that must publish byte for byte what the server sent after a
   // seek needs them (match log keyframes leave them out unless asked to).
   bool snapshot_baselines = true;
-  // The checkpoint version to write: 0 = this build's newest (4); 3 = the previous one, which
-  // builds before the compact NPC AI read (every body's id and formation slot in the AI).
+  // The checkpoint version to write: 0 = this build's newest (5: connected clients only); 4 = the
+  // one builds before it read (every client id ever given out, departed ones as empty records); 3 =
+  // the one builds before the compact NPC AI read (every body's id and formation slot in the AI).
   // Anything else throws std::invalid_argument. Why: a log meant for the previous build, and the
   // tests that make the older versions earlier builds wrote.
   std::uint32_t format_version = 0;
