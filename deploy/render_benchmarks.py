@@ -289,7 +289,7 @@ an hour each, and keep their figures beside the decisions they informed:
 | players over TCP across network namespaces | `deploy/netns-match.sh 20 10` | [`hosting.md`](hosting.md) |
 | match log size, verify and seek speed | `deploy/measure-log.sh 600`, `THRONG_MEASURE_BODIES=5000 THRONG_MEASURE_TICKS=9000 throng_matchlog_tests --gtest_also_run_disabled_tests --gtest_filter='Measure*'` | [`design/match-log.md`](design/match-log.md) |
 | the viewer's contact overlay | `throng_match_tests --gtest_also_run_disabled_tests --gtest_filter='MeasureContacts*'` | [`protocol/README.md`](../protocol/README.md#contact-pairs-a-debug-overlay-opt-in) |
-| a one-hour soak | `deploy/soak.sh 60` | [`README.md`](../README.md#limitations) |
+| a one-hour soak | `deploy/soak.sh 60` | [`design/memory.md`](design/memory.md#the-soak-step-by-step) |
 """)
     rows = readme_rows(sweep, threads, worst)
     if len(rows) != 6:
