@@ -1,7 +1,6 @@
 #include "client_registry.h"
 
 #include <algorithm>
-#include <stdexcept>
 #include <utility>
 
 #include <fmt/format.h>
@@ -64,14 +63,6 @@ void ClientRegistry::forget_departed() {
 }
 
 void ClientRegistry::restore(std::uint32_t next_id, std::vector<ClientRecord> connected) {
-  std::uint32_t previous = 0;
-  for (const ClientRecord& r : connected) {
-    if (!r.connected || r.id <= previous || r.id >= next_id) {
-      throw std::invalid_argument(fmt::format("ClientRegistry::restore: client {} is not a connected client in id order below {}",
-                                              r.id, next_id));
-    }
-    previous = r.id;
-  }
   records_.clear();
   connected_.clear();
   departed_.clear();

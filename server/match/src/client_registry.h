@@ -73,8 +73,9 @@ class ClientRegistry {
   std::uint32_t next_id() const { return next_id_; }
 
   // Checkpoints: the records held (between ticks: the connected clients), in id order. restore()
-  // replaces them and rebuilds the connected list and the nonce index as add() leaves them; every
-  // record given must be connected, with ascending ids below next_id.
+  // replaces them and rebuilds the connected list and the nonce index as add() leaves them. The
+  // caller (the checkpoint's decoder) has checked that every record is connected, with ascending
+  // ids below next_id.
   const std::map<std::uint32_t, ClientRecord>& records() const { return records_; }
   void restore(std::uint32_t next_id, std::vector<ClientRecord> connected);
 
