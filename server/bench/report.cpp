@@ -14,9 +14,9 @@ void print_summary(std::FILE* out, const RunResult& r) {
   fmt::print(out, "phases     move {:.0f}, params {:.0f}, broadphase {:.0f}, solve {:.0f} us (medians); driver {:.0f} us\n",
              r.move_us_median, r.params_us_median, r.broadphase_us_median, r.solve_us_median, r.driver_us_median);
   fmt::print(out, "solver     {:.0f} candidate pairs (median), {:.2f} iterations used (mean), {:.0f}% of band sweeps "
-                  "left out as calm, {} ticks kept the pair list, {} searched again, {} capped bodies (max), {} tunnel clamps, own max pen/r {:.4g}\n",
+                  "left out as calm, {} ticks kept the pair list ({} began the next one's search), {} searched again, {} capped bodies (max), {} tunnel clamps, own max pen/r {:.4g}\n",
              r.candidate_pairs_median, r.iterations_used_mean, 100.0 * r.band_sweeps_skipped_share(), r.pair_list_reused_ticks,
-             r.second_search_ticks, r.capped_bodies_max,
+             r.pair_list_searched_ahead_ticks, r.second_search_ticks, r.capped_bodies_max,
              r.tunnel_clamps_total, r.solver_max_pen_over_radius_last);
   fmt::print(out, "residual   max pen/r {:.4g}, p99 pen/r {:.4g}, {} pairs over 1% (independent check, {} pair tests)\n",
              r.residual.max_pen_over_radius, r.residual.p99_pen_over_radius, r.residual.pairs_over_1pct,

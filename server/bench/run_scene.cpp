@@ -94,10 +94,10 @@ RunResult run_scene(const scene::SceneDef& def, const RunOptions& options) {
       over.worst_p99_pen_over_radius = std::max(over.worst_p99_pen_over_radius, now.p99_pen_over_radius);
       if (now.max_pen_over_radius > 0.5) ++over.ticks_over_0_5_r;
       if (trace.is_open())
-        trace << fmt::format("{},{:.1f},{:.6g},{:.6g},{},{:.6g},{},{},{:.1f},{:.1f},{},{}\n", tick, s.total_us,
+        trace << fmt::format("{},{:.1f},{:.6g},{:.6g},{},{:.6g},{},{},{:.1f},{:.1f},{},{},{}\n", tick, s.total_us,
                              now.max_pen_over_radius, now.p99_pen_over_radius, now.pairs_over_1pct,
                              s.max_pen_over_radius, s.iterations_used, s.tunnel_clamps, s.broadphase_us, s.solve_us,
-                             s.pair_list_reused == 0 ? 1 : 0, s.second_search);
+                             s.pair_list_reused == 0 ? 1 : 0, s.second_search, s.pair_list_searched_ahead);
     }
     if (t < options.warmup) continue;
     total.push_back(s.total_us);
@@ -112,6 +112,7 @@ RunResult run_scene(const scene::SceneDef& def, const RunOptions& options) {
     r.band_sweeps_total += s.band_sweeps;
     r.band_sweeps_skipped_total += s.band_sweeps_skipped;
     r.pair_list_reused_ticks += s.pair_list_reused;
+    r.pair_list_searched_ahead_ticks += s.pair_list_searched_ahead;
     r.second_search_ticks += s.second_search;
     r.capped_bodies_max = std::max<std::uint64_t>(r.capped_bodies_max, s.capped_bodies);
     r.tunnel_clamps_total += s.tunnel_clamps;
@@ -177,6 +178,7 @@ nlohmann::ordered_json to_json(const RunResult& r) {
                  {"iterations_used_mean", r.iterations_used_mean},
                  {"band_sweeps_skipped_share", r.band_sweeps_skipped_share()},
                  {"pair_list_reused_ticks", r.pair_list_reused_ticks},
+                 {"pair_list_searched_ahead_ticks", r.pair_list_searched_ahead_ticks},
                  {"second_search_ticks", r.second_search_ticks},
                  {"capped_bodies_max", r.capped_bodies_max},
                  {"tunnel_clamps_total", r.tunnel_clamps_total},

@@ -37,7 +37,7 @@ struct ResidualOverTime {
 // The CSV columns --trace writes.
 inline constexpr const char* kTraceHeader =
     "tick,tick_us,max_pen_over_radius,p99_pen_over_radius,pairs_over_1pct,solver_max_pen_over_radius,iterations_used,"
-    "tunnel_clamps,search_us,solve_us,searched,second_search";
+    "tunnel_clamps,search_us,solve_us,searched,second_search,searched_ahead";
 
 struct Percentiles {
   double median = 0.0;
@@ -70,6 +70,7 @@ struct RunResult {
     return band_sweeps_total == 0 ? 0.0 : static_cast<double>(band_sweeps_skipped_total) / static_cast<double>(band_sweeps_total);
   }
   std::uint64_t pair_list_reused_ticks = 0;     // ticks that kept the pair list (no search)
+  std::uint64_t pair_list_searched_ahead_ticks = 0;  // ticks that ended by beginning the next list's search
   std::uint64_t second_search_ticks = 0;        // ticks that searched again after the solve
   std::uint64_t capped_bodies_max = 0;
   std::uint64_t tunnel_clamps_total = 0;

@@ -10,6 +10,7 @@
 #include <limits>
 #include <random>
 #include <set>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -170,8 +171,51 @@ void check_pool_search(const Crowd& dense, double margin, double cell0) {
           }
         }
       }
+      // In two parts (a pair list searched across a tick boundary), on one thread or a pool, even
+      // one of another size for the rest: the first part is a proper prefix, both together are the
+      // whole search, and their capped counts add up to its.
+      for (WorkerPool* first_pool : {static_cast<WorkerPool*>(nullptr), &two}) {
+        for (WorkerPool* rest_pool : {static_cast<WorkerPool*>(nullptr), &three}) {
+          many.clear();
+          const std::uint32_t capped_first =
+              g.find_pairs(v, margin + extra, budget, many, first_pool, HierGrid::SearchPart::kFirst);
+          const std::size_t first = many.size();
+          EXPECT_GT(first, 0u);
+          EXPECT_LT(first, one.size());
+          const std::uint32_t capped_rest =
+              g.find_pairs(v, margin + extra, budget, many, rest_pool, HierGrid::SearchPart::kRest);
+          ASSERT_EQ(capped_first + capped_rest, capped);
+          ASSERT_EQ(many.size(), one.size());
+          for (std::size_t k = 0; k < one.size(); ++k) {
+            ASSERT_TRUE(one[k].a == many[k].a && one[k].b == many[k].b) << "pair " << k;
+          }
+          // The rest is scanned once: a second one is refused.
+          EXPECT_THROW(g.find_pairs(v, margin + extra, budget, many, rest_pool, HierGrid::SearchPart::kRest),
+                       std::logic_error);
+        }
+      }
     }
   }
+}
+
+// The rest of a search needs its first part on the same grid: never begun, or the grid built again
+// since, is refused rather than scanning half a grid.
+TEST(HierGrid, RestOfASearchNeedsItsFirstPartOnTheSameGrid) {
+  const Crowd c = random_crowd(2000, 30.0, {0.35}, 9);
+  HierGrid g;
+  g.build(c.x.data(), c.y.data(), c.r.data(), c.x.size(), 0.05, 0.8);
+  const Sorted s = in_solver_order(c, g);
+  const GridBodyView v{s.c.x.data(), s.c.y.data(), s.c.z.data(), s.c.r.data(), s.c.hh.data(), s.c.group.data(),
+                       s.c.mask.data()};
+  std::vector<CandidatePair> out;
+  EXPECT_THROW(g.find_pairs(v, 0.3, 48, out, nullptr, HierGrid::SearchPart::kRest), std::logic_error);
+  g.find_pairs(v, 0.3, 48, out, nullptr, HierGrid::SearchPart::kFirst);
+  g.build(c.x.data(), c.y.data(), c.r.data(), c.x.size(), 0.05, 0.8);
+  EXPECT_THROW(g.find_pairs(v, 0.3, 48, out, nullptr, HierGrid::SearchPart::kRest), std::logic_error);
+  // A whole search in between ends the begun one too.
+  g.find_pairs(v, 0.3, 48, out, nullptr, HierGrid::SearchPart::kFirst);
+  g.find_pairs(v, 0.3, 48, out);
+  EXPECT_THROW(g.find_pairs(v, 0.3, 48, out, nullptr, HierGrid::SearchPart::kRest), std::logic_error);
 }
 
 TEST(HierGrid, SearchOnAPoolGivesTheSameListOneSize) {

@@ -133,14 +133,15 @@ TEST_F(BenchCli, ResidualOverTimeAndTraceAgree) {
     std::getline(ss, tick_us, ',');
     std::getline(ss, max_pen, ',');
     // The rest: p99, pairs over 1%, solver pen, iterations, clamps, search_us, solve_us, searched,
-    // second search.
+    // second search, searched ahead.
     std::vector<std::string> rest;
     for (std::string field; std::getline(ss, field, ',');) rest.push_back(field);
-    ASSERT_EQ(rest.size(), 9u) << line;
+    ASSERT_EQ(rest.size(), 10u) << line;
     EXPECT_GE(std::stod(rest[5]), 0.0) << line;
     EXPECT_GE(std::stod(rest[6]), 0.0) << line;
     EXPECT_TRUE(rest[7] == "0" || rest[7] == "1") << line;
     EXPECT_TRUE(rest[8] == "0" || rest[8] == "1") << line;
+    EXPECT_TRUE(rest[9] == "0" || rest[9] == "1") << line;
     searched += rest[7] == "1";
     ++lines;
     last_tick = std::stoull(tick);

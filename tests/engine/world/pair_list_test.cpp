@@ -104,8 +104,9 @@ TEST(PairList, KeptTicksSolveExactlyThePairsASearchFinds) {
     const StepStats& st = step(b);
     if (st.pair_list_reused == 0) continue;
     ++kept;
-    // A scheduled solve keeps the start positions in sb (an unscheduled one moves them).
-    if (!w.sb.displaced) continue;
+    // A scheduled solve keeps the start positions in sb (an unscheduled one moves them), unless the
+    // step ended by beginning the next list's search, which gathers sb afresh.
+    if (!w.sb.displaced || st.pair_list_searched_ahead != 0) continue;
     ++compared;
     const PairSet solved = solved_pairs(w);
     ASSERT_EQ(solved.size(), tick_pairs(w).size()) << "a pair listed twice, tick " << st.tick;
@@ -227,7 +228,9 @@ TEST(PairList, AnythingButMotionDropsTheList) {
   auto kept_after = [&](auto&& change) {
     bool motion_keeps = false;
     for (int t = 0; t < 40 && !motion_keeps; ++t) {
-      if (w.step().pair_list_reused == 0) continue;
+      // (A step that searched ahead has ended its list: the next one takes the list searched.)
+      const StepStats& st = w.step();
+      if (st.pair_list_reused == 0 || st.pair_list_searched_ahead != 0) continue;
       std::vector<std::uint8_t> saved;
       w.save_state(saved);
       scene::BuiltScene twin = crowd("crush", 2000, 0.2);
@@ -298,6 +301,84 @@ TEST(PairList, RestoredWorldKeepsTheListBitIdentically) {
     kept += static_cast<int>(ka);
   }
   EXPECT_GT(kept, 20);
+}
+
+// A list searched ahead: the step that begins the next list's search records it as a restored
+// world's list (so a checkpoint taken then holds it as any other), and the next step finishes it.
+// A world restored from that checkpoint searches the whole list itself and continues with the same
+// bits; most of a marching crowd's lists are searched ahead, not in a tick of their own.
+TEST(PairList, ListSearchedAheadRestoresBitIdentically) {
+  scene::BuiltScene a = crowd("crush", 3000, 0.2);
+  const Impl& impl = WorldProbe::impl(a.world);
+  int ahead = 0, whole = 0;
+  bool compared = false;
+  for (int t = 0; t < 200; ++t) {
+    const StepStats& st = step(a);
+    if (st.pair_list_searched_ahead != 0) {
+      ++ahead;
+      EXPECT_FALSE(impl.list.valid);
+      EXPECT_TRUE(impl.list.restore_pending && impl.list.searched_ahead);
+      EXPECT_EQ(impl.list.kept_ticks, 0u);
+    } else if (st.pair_list_reused == 0 && impl.list.valid) {
+      ++whole;
+    }
+    if (st.pair_list_searched_ahead == 0 || compared || t < 20) continue;
+    compared = true;
+    std::vector<std::uint8_t> saved;
+    a.world.save_state(saved);
+    scene::BuiltScene b = crowd("crush", 3000, 0.2);
+    b.world.restore_state(saved);
+    ASSERT_EQ(a.world.state_hash(), b.world.state_hash());
+    EXPECT_FALSE(WorldProbe::impl(b.world).list.searched_ahead) << "a restored world has no search begun";
+    // Both worlds step on with the same driver inputs (the drivers are the same scene's).
+    b.driver = a.driver;
+    for (int k = 0; k < 60; ++k) {
+      const StepStats sa = step(a);
+      const StepStats sb = step(b);
+      if (k == 0) {
+        EXPECT_EQ(sa.pair_list_reused, 1u) << "the list searched ahead was not taken";
+        EXPECT_EQ(sb.pair_list_reused, 1u);
+      }
+      ASSERT_EQ(sa.pair_list_reused, sb.pair_list_reused) << "tick " << sa.tick;
+      ASSERT_EQ(sa.pair_list_searched_ahead, sb.pair_list_searched_ahead) << "tick " << sa.tick;
+      ASSERT_EQ(a.world.state_hash(), b.world.state_hash()) << "tick " << sa.tick;
+      ahead += static_cast<int>(sa.pair_list_searched_ahead);
+      whole += sa.pair_list_reused == 0 && impl.list.valid ? 1 : 0;
+    }
+    t += 60;
+  }
+  EXPECT_TRUE(compared) << "no step searched ahead";
+  EXPECT_GT(ahead, 3 * whole) << ahead << " lists searched ahead, " << whole << " in a tick of their own";
+}
+
+// Anything that drops a list between the step that searched ahead and the next drops the search
+// begun too: the next step searches afresh where the bodies are, as a restored twin does.
+TEST(PairList, ChangeAfterSearchAheadDropsIt) {
+  scene::BuiltScene a = crowd("crush", 3000, 0.2);
+  bool found = false;
+  for (int t = 0; t < 200 && !found; ++t) found = step(a).pair_list_searched_ahead != 0 && t > 20;
+  ASSERT_TRUE(found);
+  std::vector<std::uint8_t> saved;
+  a.world.save_state(saved);
+  scene::BuiltScene b = crowd("crush", 3000, 0.2);
+  b.world.restore_state(saved);
+  b.driver = a.driver;
+  const ObjectId id = a.world.id_at(5);
+  for (World* w : {&a.world, &b.world}) {
+    const Vec3 p = w->position(id);
+    w->set_position(id, Vec3{p.x + 0.001, p.y, p.z});
+  }
+  EXPECT_FALSE(WorldProbe::impl(a.world).list.searched_ahead);
+  ASSERT_EQ(a.world.state_hash(), b.world.state_hash());
+  for (int t = 0; t < 30; ++t) {
+    const StepStats sa = step(a);
+    const StepStats sb = step(b);
+    if (t == 0) {
+      EXPECT_EQ(sa.pair_list_reused, 0u);
+    }
+    ASSERT_EQ(sa.pair_list_reused, sb.pair_list_reused) << "tick " << sa.tick;
+    ASSERT_EQ(a.world.state_hash(), b.world.state_hash()) << "tick " << sa.tick;
+  }
 }
 
 // A change between the restore and the next step drops the restored list as it drops the saved

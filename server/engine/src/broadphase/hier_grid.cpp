@@ -225,6 +225,7 @@ void HierGrid::build(const double* x, const double* y, const double* r, std::siz
                      double cell0_m) {
   if (levels_.size() < kMaxLevels) levels_.resize(kMaxLevels);
   build_margin_m_ = margin_m;
+  rest_pending_ = false;
   level_of_.resize(n);
   coords_.resize(2 * n);
   order_.resize(n);
@@ -399,7 +400,7 @@ class HierGrid::PairScan {
 // beyond the last holds nothing.
 template <class Scan>
 void HierGrid::scan_indexed_level(const Level& lv, std::uint32_t c0, std::uint32_t c1, int reach_cells,
-                                  Scan& scan) const {
+                                  int top_reach, Scan& scan) const {
   const std::uint32_t* start = lv.start.data();
   for (std::uint32_t ci = c0; ci < c1; ++ci) {
     const Cell& c = lv.cells[ci];
@@ -414,7 +415,8 @@ void HierGrid::scan_indexed_level(const Level& lv, std::uint32_t c0, std::uint32
       near_end = start[k + 3];
       const std::uint64_t row = k / lv.stride;
       for (std::uint64_t r = 1; r <= 2 && row + r < lv.rows; ++r) {
-        up[up_count++] = {start[k + r * lv.stride - 2], start[k + r * lv.stride + 3]};
+        const std::uint64_t w = r == 2 ? static_cast<std::uint64_t>(top_reach) : 2;
+        up[up_count++] = {start[k + r * lv.stride - w], start[k + r * lv.stride + w + 1]};
       }
     }
     for (std::uint32_t i = c.begin; i < c.end; ++i) scan.same_level(i, near_end, up, up_count);
@@ -426,15 +428,17 @@ void HierGrid::scan_indexed_level(const Level& lv, std::uint32_t c0, std::uint32
 // order as cell by cell.
 template <class Scan>
 void HierGrid::scan_sorted_level(const Level& lv, std::uint32_t c0, std::uint32_t c1, int reach_cells,
-                                 Scan& scan) const {
+                                 int top_reach, Scan& scan) const {
   const std::vector<Cell>& cells = lv.cells;
   const auto reach = static_cast<std::uint64_t>(reach_cells);
+  // How far sideways row r above reaches (the top row of a two-cell search may leave its corners out).
+  auto row_reach = [&](int r) { return r == 2 ? static_cast<std::uint64_t>(top_reach) : reach; };
   // First cell at or after (cx - reach, cy + r); only moves forward from the first cell's (a
   // search in pieces starts each piece where the whole search would be at its first cell).
   std::size_t up_at[2] = {0, 0};
   if (c0 < c1) {
     for (int r = 1; r <= reach_cells; ++r) {
-      const std::uint64_t up_lo = cells[c0].key + static_cast<std::uint64_t>(r) * lv.stride - reach;
+      const std::uint64_t up_lo = cells[c0].key + static_cast<std::uint64_t>(r) * lv.stride - row_reach(r);
       up_at[r - 1] = static_cast<std::size_t>(
           std::lower_bound(cells.begin(), cells.end(), up_lo, [](const Cell& cell, std::uint64_t key) { return cell.key < key; }) -
           cells.begin());
@@ -448,8 +452,8 @@ void HierGrid::scan_sorted_level(const Level& lv, std::uint32_t c0, std::uint32_
     typename Scan::Range up[2];
     int up_count = 0;
     for (int r = 1; r <= reach_cells; ++r) {
-      const std::uint64_t up_lo = c.key + static_cast<std::uint64_t>(r) * lv.stride - reach;
-      const std::uint64_t up_hi = c.key + static_cast<std::uint64_t>(r) * lv.stride + reach;
+      const std::uint64_t up_lo = c.key + static_cast<std::uint64_t>(r) * lv.stride - row_reach(r);
+      const std::uint64_t up_hi = c.key + static_cast<std::uint64_t>(r) * lv.stride + row_reach(r);
       std::size_t& u = up_at[r - 1];
       while (u < cells.size() && cells[u].key < up_lo) ++u;
       if (u < cells.size() && cells[u].key <= up_hi) {
@@ -509,49 +513,78 @@ void HierGrid::scan_cross_levels(int l, std::uint32_t i0, std::uint32_t i1, doub
 template <class Scan>
 void HierGrid::scan_piece(const SearchPiece& piece, int reach_cells, double extra, Scan& scan) const {
   const Level& lv = levels_[static_cast<std::size_t>(piece.level)];
+  // A two-cell search's top row: its corner cells (two columns aside) are at least cell * sqrt(2)
+  // from any point of the body's cell, beyond every pair of the level when the search margin is
+  // small enough (a crowd of one size with a pair list's skin: a sixth of the cells a body
+  // examines). Left out only then, with room for the rounding of positions into cells; they hold
+  // no pair, so the list is the same.
+  const double widest = 2.0 * lv.max_reach_m - build_margin_m_ + extra;
+  const int top_reach = reach_cells == 2 && lv.cell_m * std::sqrt(2.0) > widest * (1.0 + 1e-9) + 1e-9 ? 1 : reach_cells;
   if (piece.cross) scan_cross_levels(piece.level, piece.begin, piece.end, extra, scan);
-  else if (!lv.start.empty()) scan_indexed_level(lv, piece.begin, piece.end, reach_cells, scan);
-  else scan_sorted_level(lv, piece.begin, piece.end, reach_cells, scan);
+  else if (!lv.start.empty()) scan_indexed_level(lv, piece.begin, piece.end, reach_cells, top_reach, scan);
+  else scan_sorted_level(lv, piece.begin, piece.end, reach_cells, top_reach, scan);
 }
 
-template <GridTestMode kMode>
-std::uint32_t HierGrid::find_pairs_in_mode(const GridScanBodies& a, double margin, double extra, std::uint32_t max_candidates,
-                                           std::vector<CandidatePair>& out, WorkerPool* pool) {
-  // Each body examines at most max_candidates bodies: its own cell's later bodies and the right
-  // cell first, then the (up to three) cells of the row above. A search margin wider than the
-  // build's (a pair list's skin) reaches two cells: the cell's later bodies and the next two cells,
-  // then five cells in each of the two rows above (max_extra_margin says how far that reaches).
-  const int reach_cells = extra > 0.0 ? 2 : 1;
+void HierGrid::cut_pieces(bool on_pool, bool split, double first_share) {
   // The search in order: every level's cells, finest first, then each coarser level's bodies
   // against the finer levels. A body's candidates depend on the grid only, so the search can be
   // cut anywhere between cells (or coarser bodies) and its pieces joined in order.
   pieces_.clear();
   constexpr std::uint32_t kBodiesPerPiece = 4096;
-  const bool cut = pool != nullptr && pool->threads() > 1;
+  const double share = std::clamp(first_share, 0.0, 1.0);
+  const auto first_bodies = static_cast<std::uint32_t>(share * static_cast<double>(order_.size()));
+  rest_begin_ = 0;
   for (int l = 0; l < level_count_; ++l) {
     const Level& lv = levels_[static_cast<std::size_t>(l)];
     const auto cells = static_cast<std::uint32_t>(lv.cells.size());
+    // The cut (split): after the finest level's cell holding body first_bodies - 1 (its bodies are
+    // the first solver indices), after the whole level if it holds fewer, nowhere if none.
+    const bool cut_here = l == 0 && split && first_bodies > 0;
+    const std::uint32_t last = cut_here ? std::min(lv.begin + first_bodies, lv.end) : 0;
     std::uint32_t c0 = 0, bodies = 0;
-    for (std::uint32_t c = 0; c < cells && cut; ++c) {
+    for (std::uint32_t c = 0; c < cells && (on_pool || cut_here); ++c) {
       bodies += lv.cells[c].end - lv.cells[c].begin;
-      if (bodies >= kBodiesPerPiece) {
+      const bool at_cut = cut_here && lv.cells[c].begin < last && lv.cells[c].end >= last;
+      if ((on_pool && bodies >= kBodiesPerPiece) || at_cut) {
         pieces_.push_back({l, false, c0, c + 1});
         c0 = c + 1;
         bodies = 0;
+        if (at_cut) rest_begin_ = pieces_.size();
       }
     }
     if (c0 < cells) pieces_.push_back({l, false, c0, cells});
+    if (cut_here && rest_begin_ == 0) rest_begin_ = pieces_.size();
   }
   for (int l = 1; l < level_count_; ++l) {
     const Level& lv = levels_[static_cast<std::size_t>(l)];
-    const std::uint32_t step = cut ? kBodiesPerPiece / 8 : lv.end - lv.begin;  // a coarse body scans many
+    const std::uint32_t step = on_pool ? kBodiesPerPiece / 8 : lv.end - lv.begin;  // a coarse body scans many
     for (std::uint32_t i = lv.begin; i < lv.end; i += std::max(step, 1u)) {
       pieces_.push_back({l, true, i, std::min(lv.end, i + std::max(step, 1u))});
     }
   }
-  if (!cut || pieces_.size() < 2) {
+}
+
+template <GridTestMode kMode>
+std::uint32_t HierGrid::find_pairs_in_mode(const GridScanBodies& a, double margin, double extra, std::uint32_t max_candidates,
+                                           std::vector<CandidatePair>& out, WorkerPool* pool, SearchPart part,
+                                           double first_share) {
+  // Each body examines at most max_candidates bodies: its own cell's later bodies and the right
+  // cell first, then the (up to three) cells of the row above. A search margin wider than the
+  // build's (a pair list's skin) reaches two cells: the cell's later bodies and the next two cells,
+  // then five cells in each of the two rows above (max_extra_margin says how far that reaches).
+  const int reach_cells = extra > 0.0 ? 2 : 1;
+  const bool cut = pool != nullptr && pool->threads() > 1;
+  if (part == SearchPart::kRest) {
+    if (!rest_pending_) throw std::logic_error("HierGrid::find_pairs: the rest of a search that was not begun");
+  } else {
+    cut_pieces(cut, part == SearchPart::kFirst, first_share);
+  }
+  rest_pending_ = part == SearchPart::kFirst;
+  const std::size_t p0 = part == SearchPart::kRest ? rest_begin_ : 0;
+  const std::size_t p1 = part == SearchPart::kFirst ? rest_begin_ : pieces_.size();
+  if (!cut || p1 - p0 < 2) {
     PairScan<kMode> scan(a, margin, max_candidates, out);
-    for (const SearchPiece& piece : pieces_) scan_piece(piece, reach_cells, extra, scan);
+    for (std::size_t k = p0; k < p1; ++k) scan_piece(pieces_[k], reach_cells, extra, scan);
     return scan.finish();
   }
   const unsigned threads = pool->threads();
@@ -560,16 +593,16 @@ std::uint32_t HierGrid::find_pairs_in_mode(const GridScanBodies& a, double margi
     thread_out_[t].clear();
     if (thread_out_[t].capacity() < 2 * largest_search_) thread_out_[t].reserve(2 * largest_search_);
   }
-  piece_out_.resize(pieces_.size());
+  piece_out_.resize(p1 - p0);
   auto search = [&](std::uint32_t k, unsigned thread) {
     std::vector<CandidatePair>& mine = thread_out_[thread];
     const std::size_t begin = mine.size();
     PairScan<kMode> scan(a, margin, max_candidates, mine);
-    scan_piece(pieces_[k], reach_cells, extra, scan);
+    scan_piece(pieces_[p0 + k], reach_cells, extra, scan);
     const std::uint32_t capped = scan.finish();
     piece_out_[k] = {thread, begin, mine.size(), capped};
   };
-  pool->run(static_cast<std::uint32_t>(pieces_.size()), search);
+  pool->run(static_cast<std::uint32_t>(p1 - p0), search);
   std::size_t total = 0;
   std::uint32_t capped = 0;
   for (const PieceOut& p : piece_out_) {
@@ -591,18 +624,19 @@ std::uint32_t HierGrid::find_pairs_in_mode(const GridScanBodies& a, double margi
 }
 
 std::uint32_t HierGrid::find_pairs(const GridBodyView& v, double margin, std::uint32_t max_candidates,
-                                   std::vector<CandidatePair>& out, WorkerPool* pool) {
+                                   std::vector<CandidatePair>& out, WorkerPool* pool, SearchPart part,
+                                   double first_share) {
   const GridScanBodies a{v.x, v.y, v.z, v.r, v.hh, v.group, v.mask};
   const double extra = std::max(0.0, margin - build_margin_m_);
   if (level_count_ > 0 && extra > max_extra_margin(levels_[0].cell_m, build_margin_m_)) {
     throw std::invalid_argument("HierGrid::find_pairs: search margin beyond two cells of the grid");
   }
   switch (test_mode(a, order_.size(), margin)) {
-    case GridTestMode::kFlatOneRadius: return find_pairs_in_mode<GridTestMode::kFlatOneRadius>(a, margin, extra, max_candidates, out, pool);
-    case GridTestMode::kFlat: return find_pairs_in_mode<GridTestMode::kFlat>(a, margin, extra, max_candidates, out, pool);
+    case GridTestMode::kFlatOneRadius: return find_pairs_in_mode<GridTestMode::kFlatOneRadius>(a, margin, extra, max_candidates, out, pool, part, first_share);
+    case GridTestMode::kFlat: return find_pairs_in_mode<GridTestMode::kFlat>(a, margin, extra, max_candidates, out, pool, part, first_share);
     case GridTestMode::kFull: break;
   }
-  return find_pairs_in_mode<GridTestMode::kFull>(a, margin, extra, max_candidates, out, pool);
+  return find_pairs_in_mode<GridTestMode::kFull>(a, margin, extra, max_candidates, out, pool, part, first_share);
 }
 
 }  // namespace throng::detail

@@ -80,8 +80,14 @@ class HierGrid {
   // cells out instead of one.
   // With a pool, the search is cut into runs of cells (and of coarser bodies), each scanned into
   // its own buffer on the pool's threads and appended in order: the same output.
+  // In two parts (a pair list searched across a tick boundary): kFirst scans the finest level's
+  // cells holding its first `first_share` of all bodies, kRest (on the same grid and bodies,
+  // nothing built in between) appends the others; together they append exactly what kAll appends,
+  // and the budgets they report add up to its.
+  enum class SearchPart { kAll, kFirst, kRest };
   std::uint32_t find_pairs(const GridBodyView& v, double margin_m, std::uint32_t max_candidates,
-                           std::vector<CandidatePair>& out, WorkerPool* pool = nullptr);
+                           std::vector<CandidatePair>& out, WorkerPool* pool = nullptr,
+                           SearchPart part = SearchPart::kAll, double first_share = 0.5);
   // How much wider than the build's margin a search may reach with two cells: a body of level l
   // has 2 (r + margin) <= cell_l, so its widest pair 2 r + margin + extra stays within 2 cell_l
   // while extra <= cell_l + margin, and cell_l >= cell0.
@@ -96,7 +102,11 @@ class HierGrid {
   struct Level;
   template <GridTestMode kMode>
   std::uint32_t find_pairs_in_mode(const GridScanBodies& a, double margin, double extra, std::uint32_t max_candidates,
-                                   std::vector<CandidatePair>& out, WorkerPool* pool);
+                                   std::vector<CandidatePair>& out, WorkerPool* pool, SearchPart part,
+                                   double first_share);
+  // The pieces of the whole search, cut after the finest level's cell that holds body
+  // `first_share` of all when `split`.
+  void cut_pieces(bool on_pool, bool split, double first_share);
   // One piece of the search: cells [begin, end) of level l, or (cross) the bodies [begin, end) of
   // coarser level l against the finer levels.
   struct SearchPiece {
@@ -107,15 +117,19 @@ class HierGrid {
   template <class Scan>
   void scan_piece(const SearchPiece& piece, int reach_cells, double extra, Scan& scan) const;
   template <class Scan>
-  void scan_indexed_level(const Level& lv, std::uint32_t c0, std::uint32_t c1, int reach_cells, Scan& scan) const;
+  void scan_indexed_level(const Level& lv, std::uint32_t c0, std::uint32_t c1, int reach_cells, int top_reach,
+                          Scan& scan) const;
   template <class Scan>
-  void scan_sorted_level(const Level& lv, std::uint32_t c0, std::uint32_t c1, int reach_cells, Scan& scan) const;
+  void scan_sorted_level(const Level& lv, std::uint32_t c0, std::uint32_t c1, int reach_cells, int top_reach,
+                         Scan& scan) const;
   template <class Scan>
   void scan_cross_levels(int l, std::uint32_t i0, std::uint32_t i1, double extra, Scan& scan) const;
   // The pieces of a search on a pool; each thread appends its pieces' candidates to its own buffer
   // (kept with room for twice the largest search so far, so that a tick does not allocate), and
   // each piece records where in which buffer its candidates are, and how many bodies it capped.
   std::vector<SearchPiece> pieces_;
+  std::size_t rest_begin_ = 0;   // the first piece of a kRest part
+  bool rest_pending_ = false;    // a kFirst part was scanned on this grid and its rest was not
   std::vector<std::vector<CandidatePair>> thread_out_;
   struct PieceOut {
     std::uint32_t thread;

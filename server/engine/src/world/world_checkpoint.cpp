@@ -413,6 +413,7 @@ void World::Impl::apply_state(detail::WorldState&& st) {
   cell0_dirty = true;
   // The next step searches a kept list again where the saved world searched it (world_pair_list.cpp).
   list.valid = false;
+  list.searched_ahead = false;
   list.restore_pending = st.pair_list_kept;
   list.kept_ticks = st.pair_list_kept_ticks;
   list.cooldown = st.pair_list_cooldown;

@@ -176,6 +176,14 @@ struct World::Impl {
     // A restored world searches again at the saved positions (dense order) before its next step.
     bool restore_pending = false;
     std::vector<double> restored_x, restored_y, restored_z;
+    // Searched ahead (World::Impl::search_ahead, at the end of the last step): restored_x holds that
+    // step's final positions, the fine grid and the solver's bodies are built there, and `found`
+    // holds the first part of the search; the next step's search there only finishes it.
+    bool searched_ahead = false;
+    std::uint32_t ahead_capped = 0;  // bodies the first part capped
+    // This step's check: the two largest displacements since the list's search, summed (0 if the
+    // step checked none).
+    double moved = 0.0;
     bool fresh = false;  // searched this tick: the pushes are still to be looked up in the cache
     bool all_fast = false;  // every entry is between grounded bodies (no scenery: no planes either)
     std::size_t live = 0;   // entries taken this tick: of_pair[0, live)
@@ -187,6 +195,7 @@ struct World::Impl {
     void drop() {
       valid = false;
       restore_pending = false;
+      searched_ahead = false;
     }
     // A list that did not pay: the next `backoff` ticks search without one, and the next such
     // cooldown is twice as long.
@@ -231,7 +240,8 @@ struct World::Impl {
   double pair_target(std::uint32_t a, std::uint32_t b) const;
   float warm_push(std::uint32_t a, std::uint32_t b) const;
   bool pair_list_eligible() const;
-  bool search_pair_list(const double* x, const double* y, const double* z);
+  // ahead: search_ahead has begun this search (at x, y, z, the restored positions).
+  bool search_pair_list(const double* x, const double* y, const double* z, bool ahead);
   double pair_list_skin();
   template <bool kFresh>
   void take_list_pairs();
@@ -243,6 +253,8 @@ struct World::Impl {
   void schedule_list_pairs(double conflict);
   void pairs_from_list(bool gathered);  // gathered: sb already holds the bodies' positions
   bool moved_within_skin(bool restored);
+  bool search_ahead_due();
+  void search_ahead();
   bool relieve_piles();
   void build_scenery_planes();
   // apply_warm_start: false for the second solve of a tick, whose bodies already carry the pushes.

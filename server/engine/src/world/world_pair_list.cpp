@@ -22,6 +22,10 @@
 // and where it was searched; a restored world searches there again and takes the pushes from the
 // cache, and continues bit-identically.
 //
+// Searched ahead: a list about to be outrun is replaced by one searched at the positions the step
+// ends with, begun at the end of that step and finished by the next (search_ahead), so that no
+// single tick pays for the whole search. Between the two it is recorded as a restored world's list.
+//
 // Only where a kept list is exact and cheap: no fixed scenery (bodies against scenery get general
 // pairs and planes decided per tick), shares from the two resistances alone, warm start on. A list
 // whose search capped a body's candidates or relieved a pile is not kept. Anything that changes a
@@ -37,6 +41,9 @@
 
 namespace throng {
 namespace {
+
+// The share of the bodies whose cells search_ahead scans (HierGrid::SearchPart::kFirst).
+constexpr double kAheadScanShare = 0.6;
 
 // The two largest displacements from (x0, y0, z0)[s] to (x, y, z)[index[s]] (or [s] when index is
 // null) over bodies [begin, end), folded into (first, second). With `out`, also writes
@@ -83,6 +90,7 @@ bool World::Impl::pair_list_eligible() const {
 }
 
 void World::Impl::find_pairs() {
+  list.moved = 0.0;
   if (!pair_list_eligible()) {
     list.drop();
     build_pairs();
@@ -90,13 +98,18 @@ void World::Impl::find_pairs() {
   }
   const std::size_t n = bodies.size();
   if (list.valid || list.restore_pending) {
-    // A restored world compares with where the saved world searched its list (dense order).
+    // A restored world compares with where the saved world searched its list (dense order); so
+    // does a world that searched ahead at the end of its last step, which has begun that search.
     const bool restored = list.restore_pending;
+    const bool ahead = list.searched_ahead;
     list.restore_pending = false;
+    list.searched_ahead = false;
     const bool covers = restored ? list.restored_x.size() == n && moved_within_skin(true)
                                  : solver_order.size() == n && moved_within_skin(false);
     // The saved world's list, searched again where it was searched (its pushes come from the cache).
-    if (covers && restored) list.valid = search_pair_list(list.restored_x.data(), list.restored_y.data(), list.restored_z.data());
+    if (covers && restored) {
+      list.valid = search_pair_list(list.restored_x.data(), list.restored_y.data(), list.restored_z.data(), ahead);
+    }
     if (covers && list.valid) {
       // A running world's check gathered the solver's positions; a restored one searched at the
       // saved positions and gathers the bodies' own.
@@ -118,7 +131,7 @@ void World::Impl::find_pairs() {
     return;
   }
   list.kept_ticks = 0;
-  list.valid = search_pair_list(bodies.x.data(), bodies.y.data(), bodies.z.data());
+  list.valid = search_pair_list(bodies.x.data(), bodies.y.data(), bodies.z.data(), false);
   if (list.valid) {
     pairs_from_list(true);  // the fine grid gathered the bodies' positions
   } else {
@@ -128,6 +141,51 @@ void World::Impl::find_pairs() {
     search_candidates();
     setup_pairs();
   }
+}
+
+// Whether to begin the next list's search now, at the end of a step (search_ahead): the kept list
+// paid, and at the pace its bodies have moved apart since its search (this step's check over the
+// ticks it was kept) the next step's check would find it outrun. Reads only what a checkpoint
+// holds and this step's check, so a restored world decides the same.
+// Why no margin: the check's sum grows about linearly from a small offset, so this pace already
+// errs early; a margin of a quarter tick ended most lists a tick early (more searches in all) to
+// save the few that are outrun unforeseen and searched in a tick of their own (docs/design/solver.md).
+bool World::Impl::search_ahead_due() {
+  if (list_record() != ListRecord::kKept || list.cooldown > 0 || list.kept_ticks < PairList::kMinKeptTicks ||
+      !pair_list_eligible()) {
+    return false;
+  }
+  const double k = static_cast<double>(list.kept_ticks);
+  return list.moved * ((k + 1.0) / k) > pair_list_skin() - 1e-6;
+}
+
+// Why: a tick that searches the list costs about twice a tick that keeps it, and one tick in four
+// or five searches in a marching crowd, so those ticks were the tail. Searching ahead splits that
+// work across the tick boundary: this step builds the fine grid at its final positions and scans
+// the cells of the first kAheadScanShare of the bodies; the next step finishes the scan, sets the
+// entries up and takes its pairs (looking their pushes up), which is why it scans less.
+// The list is recorded exactly as a restored world's list to search again at these positions
+// (restore_pending, restored_x), so a checkpoint or state hash taken in between holds what it holds
+// for any kept list, and the next step runs the restored world's code: a world restored from that
+// checkpoint searches the same list and continues with the same bits.
+void World::Impl::search_ahead() {
+  PairList& l = list;
+  // The kept list ends here, as find_pairs ends a list that paid and that motion outran.
+  l.backoff = PairList::kCooldownTicks;
+  l.valid = false;
+  l.kept_ticks = 0;
+  l.restore_pending = true;
+  l.restored_x.assign(bodies.x.begin(), bodies.x.end());
+  l.restored_y.assign(bodies.y.begin(), bodies.y.end());
+  l.restored_z.assign(bodies.z.begin(), bodies.z.end());
+  // As a restored world's search builds it: at the saved positions, never relieving a pile.
+  fine_grid(l.restored_x.data(), l.restored_y.data(), l.restored_z.data(), false);
+  l.found.clear();
+  const detail::GridBodyView view{sb.x.data(), sb.y.data(), sb.z.data(), sb.r.data(), sb.hh.data(),
+                                  sgroup.data(), smask.data()};
+  l.ahead_capped = grid.find_pairs(view, settings.contact_margin_m + pair_list_skin(), settings.max_candidates_per_body,
+                                   l.found, pool.get(), detail::HierGrid::SearchPart::kFirst, kAheadScanShare);
+  l.searched_ahead = true;
 }
 
 // Whether the bodies moved within the skin since the list's search: from the saved positions of a
@@ -153,6 +211,7 @@ bool World::Impl::moved_within_skin(bool restored) {
   });
   TopTwo all;
   for (const double d : list.range_top) all.add(d);
+  list.moved = all.first + all.second;
   return within_skin(all.first, all.second, pair_list_skin());
 }
 
@@ -166,20 +225,30 @@ double World::Impl::pair_list_skin() {
 // Searches the list at positions (x, y, z) (dense order): the bodies' own, or a restored world's
 // saved ones. Returns false (and leaves the fine grid and the solver's bodies set up at the bodies'
 // positions) if the list cannot be kept.
-bool World::Impl::search_pair_list(const double* x, const double* y, const double* z) {
+bool World::Impl::search_pair_list(const double* x, const double* y, const double* z, bool ahead) {
   const double margin = settings.contact_margin_m;
-  // The fine grid gives the bodies' order. Pile relief moves the bodies (only ever at their own
-  // positions: a kept list's search relieved none, and a search at the same positions again would
-  // not either).
-  const bool relieved = fine_grid(x, y, z, x == bodies.x.data());
-  if (relieved) return false;
-  // The fine grid's own search, two cells out: the pairs come in the order a search with the
-  // margin lists them, so this tick's pairs (the entries within the margin) are that search's.
   PairList& l = list;
-  l.found.clear();
-  const detail::GridBodyView view{sb.x.data(), sb.y.data(), sb.z.data(), sb.r.data(), sb.hh.data(),
-                                  sgroup.data(), smask.data()};
-  if (grid.find_pairs(view, margin + pair_list_skin(), settings.max_candidates_per_body, l.found, pool.get()) != 0) {
+  auto view = [&] {
+    return detail::GridBodyView{sb.x.data(), sb.y.data(), sb.z.data(), sb.r.data(), sb.hh.data(),
+                                sgroup.data(), smask.data()};
+  };
+  std::uint32_t capped = 0;
+  if (ahead) {
+    // search_ahead built the fine grid at these positions and scanned its first part.
+    capped = l.ahead_capped + grid.find_pairs(view(), margin + pair_list_skin(), settings.max_candidates_per_body, l.found,
+                                              pool.get(), detail::HierGrid::SearchPart::kRest);
+  } else {
+    // The fine grid gives the bodies' order. Pile relief moves the bodies (only ever at their own
+    // positions: a kept list's search relieved none, and a search at the same positions again would
+    // not either).
+    const bool relieved = fine_grid(x, y, z, x == bodies.x.data());
+    if (relieved) return false;
+    // The fine grid's own search, two cells out: the pairs come in the order a search with the
+    // margin lists them, so this tick's pairs (the entries within the margin) are that search's.
+    l.found.clear();
+    capped = grid.find_pairs(view(), margin + pair_list_skin(), settings.max_candidates_per_body, l.found, pool.get());
+  }
+  if (capped != 0) {
     if (x != bodies.x.data()) fine_grid(bodies.x.data(), bodies.y.data(), bodies.z.data(), false);
     return false;
   }

@@ -75,6 +75,12 @@ const StepStats& World::step() {
   w.finish_tick();
   w.last_reorder.clear();
   if (w.tick % Impl::kReorderPeriodTicks == 0) w.reorder_dense();
+  if (w.search_ahead_due()) {
+    t = Clock::now();
+    w.search_ahead();
+    w.stats.broadphase_us += micros_since(t);
+    w.stats.pair_list_searched_ahead = 1;
+  }
   w.stats.total_us = micros_since(t0);
   return w.stats;
 }

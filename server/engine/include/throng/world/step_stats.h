@@ -17,6 +17,9 @@ struct StepStats {
   // (WorldSettings::pair_list_skin_m), else 0. The first tick after a restore that carried a kept
   // list reads 1 as the saved world would, though it searched the list again.
   std::uint32_t pair_list_reused = 0;
+  // 1 when this step ended by beginning the next tick's pair list search, the kept list being about
+  // to be outrun (the next tick finishes it and reads pair_list_reused = 1).
+  std::uint32_t pair_list_searched_ahead = 0;
   std::uint32_t scenery_planes = 0;    // body-vs-fixed separating planes built this tick
   std::uint32_t iterations_used = 0;
   std::uint32_t capped_bodies = 0;     // bodies that hit max_candidates_per_body
