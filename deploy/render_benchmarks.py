@@ -267,8 +267,8 @@ default: two factions, walls).
 `residual_over_time` {{`worst_max_pen_over_radius`, `worst_max_tick`, `worst_p99_pen_over_radius`,
 `ticks_over_0_5_r`}} (from `--residual-from`, default 61), `static_pen_max_over_radius`,
 `nan_count`, `state_hash`, per-phase medians and the solver's own figures (candidate pairs,
-iterations used, the share of band sweeps left out as calm, ticks that kept the pair list or
-searched twice). `--trace FILE` writes one CSV line per tick; `--carry X` overrides
+iterations used, the share of band sweeps left out as calm, ticks that kept the pair list, began
+the next list's search or searched twice). `--trace FILE` writes one CSV line per tick; `--carry X` overrides
 `blocked_motion_carry`.
 """
     out = [head]
