@@ -542,7 +542,8 @@ void HierGrid::cut_pieces(bool on_pool, bool split, double first_share) {
     const bool cut_here = l == 0 && split && first_bodies > 0;
     const std::uint32_t last = cut_here ? std::min(lv.begin + first_bodies, lv.end) : 0;
     std::uint32_t c0 = 0, bodies = 0;
-    for (std::uint32_t c = 0; c < cells && (on_pool || cut_here); ++c) {
+    // On one thread only the cut is looked for: the cells after it are one piece.
+    for (std::uint32_t c = 0; c < cells && (on_pool || (cut_here && rest_begin_ == 0)); ++c) {
       bodies += lv.cells[c].end - lv.cells[c].begin;
       const bool at_cut = cut_here && lv.cells[c].begin < last && lv.cells[c].end >= last;
       if ((on_pool && bodies >= kBodiesPerPiece) || at_cut) {

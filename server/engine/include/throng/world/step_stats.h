@@ -18,7 +18,8 @@ struct StepStats {
   // list reads 1 as the saved world would, though it searched the list again.
   std::uint32_t pair_list_reused = 0;
   // 1 when this step ended by beginning the next tick's pair list search, the kept list being about
-  // to be outrun (the next tick finishes it and reads pair_list_reused = 1).
+  // to be outrun (the next tick finishes it and, unless its bodies outran that list too or its
+  // search was capped, reads pair_list_reused = 1).
   std::uint32_t pair_list_searched_ahead = 0;
   std::uint32_t scenery_planes = 0;    // body-vs-fixed separating planes built this tick
   std::uint32_t iterations_used = 0;
