@@ -176,19 +176,19 @@ struct World::Impl {
     // A restored world searches again at the saved positions (dense order) before its next step.
     bool restore_pending = false;
     std::vector<double> restored_x, restored_y, restored_z;
-    // Searched ahead (World::Impl::search_ahead, at the end of the last step): restored_x holds that
-    // step's final positions, the fine grid and the solver's bodies are built there, and `found`
+    // Searched ahead (World::Impl::search_ahead, at the end of the last step): restored_x holds where
+    // that step's final positions and velocities place the bodies a little ahead, the fine grid and the solver's bodies are built there, and `found`
     // holds the first part of the search; the next step's search there only finishes it.
     bool searched_ahead = false;
     std::uint32_t ahead_capped = 0;  // bodies the first part capped
-    // This step's check: the two largest displacements since the list's search, summed (0 if the
-    // step checked none).
-    double moved = 0.0;
+    // This step's forecast of the next step's check: the two largest displacements since the list's
+    // search if every body went on at its last tick's velocity, summed (0 if the step checked none).
+    double moved_next = 0.0;
     bool fresh = false;  // searched this tick: the pushes are still to be looked up in the cache
     bool all_fast = false;  // every entry is between grounded bodies (no scenery: no planes either)
     std::size_t live = 0;   // entries taken this tick: of_pair[0, live)
     std::vector<detail::CandidatePair> found;  // search scratch
-    std::vector<double> range_top;  // moved_within_skin: each range's two largest displacements
+    std::vector<double> range_top;  // moved_within_skin: each range's two largest displacements and forecasts
     std::vector<std::uint32_t> range_taken, range_warm;  // take_list_pairs: per range of entries
     // Anything but motion changed a pair: no list is kept, and a restored world does not search
     // the saved one again either (the saved world dropped it too).
@@ -254,6 +254,7 @@ struct World::Impl {
   void pairs_from_list(bool gathered);  // gathered: sb already holds the bodies' positions
   bool moved_within_skin(bool restored);
   bool search_ahead_due();
+  bool reorder_due(bool searching_ahead) const;
   void search_ahead();
   bool relieve_piles();
   void build_scenery_planes();

@@ -22,9 +22,10 @@
 // and where it was searched; a restored world searches there again and takes the pushes from the
 // cache, and continues bit-identically.
 //
-// Searched ahead: a list about to be outrun is replaced by one searched at the positions the step
-// ends with, begun at the end of that step and finished by the next (search_ahead), so that no
-// single tick pays for the whole search. Between the two it is recorded as a restored world's list.
+// Searched ahead: a list about to be outrun is replaced by one searched where the step's final
+// positions and velocities place the bodies a little ahead, begun at the end of that step and
+// finished by the next (search_ahead), so that no single tick pays for the whole search. Between
+// the two it is recorded as a restored world's list.
 //
 // Only where a kept list is exact and cheap: no fixed scenery (bodies against scenery get general
 // pairs and planes decided per tick), shares from the two resistances alone, warm start on. A list
@@ -45,6 +46,15 @@ namespace {
 // The share of the bodies whose cells search_ahead scans (HierGrid::SearchPart::kFirst).
 constexpr double kAheadScanShare = 0.6;
 
+// How far ahead search_ahead places the next list's search: each body where its last tick's
+// actual velocity would carry it in this many ticks. Any reference positions keep the list exact
+// (the check measures every body's displacement from where the list was searched, whatever those
+// positions were); the lead only decides how long the list lasts. A body going on at its pace is
+// then as far from the search before the list's middle as after it, so a list searched at the
+// step's final positions, which had spent one move of its skin when first used, lasts about twice
+// as long for a crowd on the march (docs/design/solver.md).
+constexpr double kAheadLeadTicks = 2.0;
+
 // The two largest displacements from (x0, y0, z0)[s] to (x, y, z)[index[s]] (or [s] when index is
 // null) over bodies [begin, end), folded into (first, second). With `out`, also writes
 // (x, y, z)[index[s]] to out[s] (the gather of the solver's positions, in the same pass).
@@ -58,9 +68,12 @@ struct TopTwo {
   }
 };
 
+// Also folds into `next` the displacements the next step's check would find if every body went on
+// at its last tick's actual velocity (ax, ay over dt): search_ahead_due's forecast.
 void fold_displacements(std::size_t begin, std::size_t end, const double* x, const double* y, const double* z,
                         const std::uint32_t* index, const double* x0, const double* y0, const double* z0,
-                        detail::SolverBodies* out, TopTwo& top) {
+                        const double* ax, const double* ay, double dt, detail::SolverBodies* out, TopTwo& top,
+                        TopTwo& next) {
   for (std::size_t s = begin; s < end; ++s) {
     const std::size_t i = index != nullptr ? index[s] : s;
     if (out != nullptr) {
@@ -70,6 +83,8 @@ void fold_displacements(std::size_t begin, std::size_t end, const double* x, con
     }
     const double dx = x[i] - x0[s], dy = y[i] - y0[s], dz = z[i] - z0[s];
     top.add(std::sqrt(dx * dx + dy * dy + dz * dz));
+    const double nx = dx + ax[i] * dt, ny = dy + ay[i] * dt;
+    next.add(std::sqrt(nx * nx + ny * ny + dz * dz));
   }
 }
 
@@ -90,7 +105,7 @@ bool World::Impl::pair_list_eligible() const {
 }
 
 void World::Impl::find_pairs() {
-  list.moved = 0.0;
+  list.moved_next = 0.0;
   if (!pair_list_eligible()) {
     list.drop();
     build_pairs();
@@ -144,27 +159,26 @@ void World::Impl::find_pairs() {
 }
 
 // Whether to begin the next list's search now, at the end of a step (search_ahead): the kept list
-// paid, and at the pace its bodies have moved apart since its search (this step's check over the
-// ticks it was kept) the next step's check would find it outrun. Reads only what a checkpoint
+// paid, and the next step's check would find it outrun if every body went on at its last tick's
+// velocity (this step's check forecast per body, moved_within_skin). Reads only what a checkpoint
 // holds and this step's check, so a restored world decides the same.
-// Why no margin: the check's sum grows about linearly from a small offset, so this pace already
-// errs early; a margin of a quarter tick ended most lists a tick early (more searches in all) to
-// save the few that are outrun unforeseen and searched in a tick of their own (docs/design/solver.md).
+// Why per body: a list searched ahead of the bodies sees their displacements shrink before they
+// grow, so the check's sum does not grow at a pace that can be read from its value; each body's
+// own forecast can.
 bool World::Impl::search_ahead_due() {
   if (list_record() != ListRecord::kKept || list.cooldown > 0 || list.kept_ticks < PairList::kMinKeptTicks ||
       !pair_list_eligible()) {
     return false;
   }
-  const double k = static_cast<double>(list.kept_ticks);
-  return list.moved * ((k + 1.0) / k) > pair_list_skin() - 1e-6;
+  return list.moved_next > pair_list_skin() - 1e-6;
 }
 
 // Why: a tick that searches the list costs about twice a tick that keeps it, and one tick in four
 // or five searches in a marching crowd, so those ticks were the tail. Searching ahead splits that
-// work across the tick boundary: this step builds the fine grid at its final positions and scans
+// work across the tick boundary: this step builds the fine grid kAheadLeadTicks ahead and scans
 // the cells of the first kAheadScanShare of the bodies; the next step finishes the scan, sets the
 // entries up and takes its pairs (looking their pushes up), which is why it scans less.
-// The list is recorded exactly as a restored world's list to search again at these positions
+// The list is recorded exactly as a restored world's list to search again at those positions
 // (restore_pending, restored_x), so a checkpoint or state hash taken in between holds what it holds
 // for any kept list, and the next step runs the restored world's code: a world restored from that
 // checkpoint searches the same list and continues with the same bits.
@@ -175,9 +189,17 @@ void World::Impl::search_ahead() {
   l.valid = false;
   l.kept_ticks = 0;
   l.restore_pending = true;
-  l.restored_x.assign(bodies.x.begin(), bodies.x.end());
-  l.restored_y.assign(bodies.y.begin(), bodies.y.end());
+  const std::size_t n = bodies.size();
+  l.restored_x.resize(n);
+  l.restored_y.resize(n);
   l.restored_z.assign(bodies.z.begin(), bodies.z.end());
+  // A lead longer than the skin could not be kept anyway (such a body outruns any list in a tick);
+  // the clamp also keeps the positions finite whatever the velocity.
+  const double lead = kAheadLeadTicks * settings.dt_s, skin = pair_list_skin();
+  for (std::size_t i = 0; i < n; ++i) {
+    l.restored_x[i] = bodies.x[i] + std::clamp(bodies.ax[i] * lead, -skin, skin);
+    l.restored_y[i] = bodies.y[i] + std::clamp(bodies.ay[i] * lead, -skin, skin);
+  }
   // As a restored world's search builds it: at the saved positions, never relieving a pile.
   fine_grid(l.restored_x.data(), l.restored_y.data(), l.restored_z.data(), false);
   l.found.clear();
@@ -202,16 +224,27 @@ bool World::Impl::moved_within_skin(bool restored) {
   const double* z0 = restored ? list.restored_z.data() : list.z.data();
   detail::SolverBodies* out = restored ? nullptr : &sb;
   const std::size_t tasks = (n + kBodiesPerTask - 1) / kBodiesPerTask;
-  list.range_top.resize(2 * tasks);
+  list.range_top.resize(4 * tasks);
+  const double* ax = bodies.ax.data();
+  const double* ay = bodies.ay.data();
+  const double dt = settings.dt_s;
   for_body_ranges(n, [&](std::size_t begin, std::size_t end) {
-    TopTwo top;
-    fold_displacements(begin, end, x, y, z, index, x0, y0, z0, out, top);
-    list.range_top[2 * (begin / kBodiesPerTask)] = top.first;
-    list.range_top[2 * (begin / kBodiesPerTask) + 1] = top.second;
+    TopTwo top, next;
+    fold_displacements(begin, end, x, y, z, index, x0, y0, z0, ax, ay, dt, out, top, next);
+    double* range = &list.range_top[4 * (begin / kBodiesPerTask)];
+    range[0] = top.first;
+    range[1] = top.second;
+    range[2] = next.first;
+    range[3] = next.second;
   });
-  TopTwo all;
-  for (const double d : list.range_top) all.add(d);
-  list.moved = all.first + all.second;
+  TopTwo all, all_next;
+  for (std::size_t t = 0; t < tasks; ++t) {
+    all.add(list.range_top[4 * t]);
+    all.add(list.range_top[4 * t + 1]);
+    all_next.add(list.range_top[4 * t + 2]);
+    all_next.add(list.range_top[4 * t + 3]);
+  }
+  list.moved_next = all_next.first + all_next.second;
   return within_skin(all.first, all.second, pair_list_skin());
 }
 

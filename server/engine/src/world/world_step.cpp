@@ -74,8 +74,9 @@ const StepStats& World::step() {
 
   w.finish_tick();
   w.last_reorder.clear();
-  if (w.tick % Impl::kReorderPeriodTicks == 0) w.reorder_dense();
-  if (w.search_ahead_due()) {
+  const bool ahead = w.search_ahead_due();
+  if (w.reorder_due(ahead)) w.reorder_dense();
+  if (ahead) {
     t = Clock::now();
     w.search_ahead();
     w.stats.broadphase_us += micros_since(t);
@@ -355,6 +356,20 @@ void World::Impl::store_warm_start_and_events() {
                                static_cast<float>(pl.share), static_cast<float>(pl.depth_start * pl.share)};
     }
   }
+}
+
+// The re-sort's ticks: the first of each kReorderPeriodTicks, or the second when the first began or
+// finished a list's search (a re-sort costs about as much as half a search, and the two together
+// made the heaviest ticks); when both did, that period has none. Reads only the tick, the list's
+// state and this step's decision to search ahead, so a restored world re-sorts on the same ticks.
+bool World::Impl::reorder_due(bool searching_ahead) const {
+  const std::uint64_t phase = tick % kReorderPeriodTicks;
+  if (phase > 1) return false;
+  if (list_record() != ListRecord::kKept) return phase == 0;  // no list (search_ahead_due needs one)
+  // A list this step searched (kept_ticks counts this tick), or one it ends by beginning the next.
+  if (searching_ahead || list.kept_ticks < 2) return false;
+  // The period's first tick, or the second after a first that searched this list (its first tick).
+  return phase == 0 || list.kept_ticks == 2;
 }
 
 // Every few ticks the dense arrays are put into the broadphase's spatial order, so that the
