@@ -177,8 +177,9 @@ struct World::Impl {
     bool restore_pending = false;
     std::vector<double> restored_x, restored_y, restored_z;
     // Searched ahead (World::Impl::search_ahead, at the end of the last step): restored_x holds where
-    // that step's final positions and velocities place the bodies a little ahead, the fine grid and the solver's bodies are built there, and `found`
-    // holds the first part of the search; the next step's search there only finishes it.
+    // that step's final positions and velocities place the bodies a little ahead, the fine grid and
+    // the solver's bodies are built there, and `found` holds the first part of the search; the next
+    // step's search there only finishes it.
     bool searched_ahead = false;
     std::uint32_t ahead_capped = 0;  // bodies the first part capped
     // This step's forecast of the next step's check: the two largest displacements since the list's

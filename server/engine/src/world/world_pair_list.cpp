@@ -49,10 +49,11 @@ constexpr double kAheadScanShare = 0.6;
 // How far ahead search_ahead places the next list's search: each body where its last tick's
 // actual velocity would carry it in this many ticks. Any reference positions keep the list exact
 // (the check measures every body's displacement from where the list was searched, whatever those
-// positions were); the lead only decides how long the list lasts. A body going on at its pace is
-// then as far from the search before the list's middle as after it, so a list searched at the
-// step's final positions, which had spent one move of its skin when first used, lasts about twice
-// as long for a crowd on the march (docs/design/solver.md).
+// positions were); the lead only decides how long the list lasts. A body going on at its pace
+// first comes closer to where the list saw it, then moves away, so the list outlasts one searched
+// at the step's final positions, which had spent one move of its skin when first used. A longer
+// lead left more lists outrun before the forecast saw it coming, each searched whole in a tick of
+// its own (docs/design/solver.md).
 constexpr double kAheadLeadTicks = 2.0;
 
 // The two largest displacements from (x0, y0, z0)[s] to (x, y, z)[index[s]] (or [s] when index is
