@@ -189,7 +189,7 @@ struct World::Impl {
     bool all_fast = false;  // every entry is between grounded bodies (no scenery: no planes either)
     std::size_t live = 0;   // entries taken this tick: of_pair[0, live)
     std::vector<detail::CandidatePair> found;  // search scratch
-    std::vector<double> range_top;  // moved_within_skin: each range's two largest displacements and forecasts
+    std::vector<double> range_top;  // moved_within_skin: each range's two largest squared displacements and forecasts
     std::vector<std::uint32_t> range_taken, range_warm;  // take_list_pairs: per range of entries
     // Anything but motion changed a pair: no list is kept, and a restored world does not search
     // the saved one again either (the saved world dropped it too).
