@@ -44,7 +44,7 @@ namespace throng {
 namespace {
 
 // The share of the bodies whose cells search_ahead scans (HierGrid::SearchPart::kFirst).
-constexpr double kAheadScanShare = 0.6;
+constexpr double kAheadScanShare = 0.7;
 
 // How far ahead search_ahead places the next list's search: each body where its last tick's
 // actual velocity would carry it in this many ticks. Any reference positions keep the list exact
