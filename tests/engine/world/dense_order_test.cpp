@@ -63,37 +63,48 @@ TEST(DenseOrder, EveryStepPublishesTheReSortItMadeAndOnlyThat) {
 }
 
 // The re-sort keeps off the ticks that begin or finish a list's search ahead (the two together were
-// the heaviest ticks): on a period's first tick, or on its second when the first took part in a
-// search, and never twice in a period.
+// the heaviest ticks): on a period's first tick when it surely does no search work, else on its
+// second when that one surely does none, and never twice in a period. "Surely none": it keeps a list
+// it kept the tick before and begins no search; the first tick after a search in a tick of its own
+// is not told apart from the tick that finished a search ahead (world_step.cpp, reorder_due).
 TEST(DenseOrder, ReSortsKeepOffTheTicksOfASearchAhead) {
   scene::BuiltScene b = scene::build_scene(scene::scale_scene(scene::builtin_scene("crush"), 3000));
+  struct Seen {
+    bool ahead = false, kept = false;  // began a search ahead; kept a list (its own search or not)
+  };
+  Seen before_last, last;  // the two ticks before this one
   std::vector<std::uint64_t> resorts;
   std::size_t deferred = 0, ahead_ticks = 0;
-  // Whether the tick before this one began a search ahead, and whether it took part in any search
-  // (began one, finished one, or searched in a tick of its own).
-  bool previous_ahead = false, previous_searched = false;
   for (int t = 0; t < 400; ++t) {
     b.driver.apply(b.world);
     const StepStats st = b.world.step();
     const std::uint64_t tick = b.world.tick();
-    const bool ahead = st.pair_list_searched_ahead != 0;
-    ahead_ticks += ahead ? 1 : 0;
-    if (!b.world.last_reorder().empty()) {
-      SCOPED_TRACE(tick);
+    const Seen now{st.pair_list_searched_ahead != 0, st.pair_list_reused != 0 && st.second_search == 0};
+    ahead_ticks += now.ahead ? 1 : 0;
+    // Surely no search work: kept its list, kept one the tick before, begins none, and the tick
+    // before began none either (this one would have finished it).
+    const bool sure_now = now.kept && last.kept && !now.ahead && !last.ahead;
+    const bool sure_last = last.kept && before_last.kept && !last.ahead && !before_last.ahead;
+    const bool resorted = !b.world.last_reorder().empty();
+    SCOPED_TRACE(tick);
+    if (tick % 16 == 0 && sure_now) {
+      EXPECT_TRUE(resorted) << "a period's first tick without search work made no re-sort";
+    }
+    if (resorted) {
       EXPECT_LE(tick % 16, 1u);
-      EXPECT_FALSE(ahead) << "re-sorted on a tick that began a search ahead";
-      EXPECT_FALSE(previous_ahead) << "re-sorted on the tick that finished a search ahead";
+      EXPECT_FALSE(now.ahead) << "re-sorted on a tick that began a search ahead";
+      EXPECT_FALSE(last.ahead) << "re-sorted on the tick that finished a search ahead";
       if (!resorts.empty()) {
         EXPECT_NE(resorts.back() / 16, tick / 16) << "two re-sorts in a period";
       }
       if (tick % 16 == 1) {
         ++deferred;
-        EXPECT_TRUE(previous_searched) << "deferred from a tick that did not search";
+        EXPECT_FALSE(sure_last) << "deferred from a first tick without search work";
       }
       resorts.push_back(tick);
     }
-    previous_searched = st.pair_list_reused == 0 || ahead || previous_ahead;
-    previous_ahead = ahead;
+    before_last = last;
+    last = now;
   }
   EXPECT_GT(ahead_ticks, 20u);  // a marching crowd: lists searched ahead all along
   EXPECT_GE(resorts.size(), 400u / 16 / 2);  // a period loses its re-sort only to a search's two ticks

@@ -85,7 +85,9 @@ void open_crowd_ticks_without_allocating(int side, std::uint32_t threads) {
     const StepStats& st = w.step();
     g_counting = false;
     kept += st.pair_list_reused;
-    searched += 1 - st.pair_list_reused + st.pair_list_searched_ahead;  // in a tick of its own, or ahead
+    // In a tick of its own, or begun ahead (how a settled jam replaces its lists: then every search
+    // in the window is one begun ahead and finished by the next step).
+    searched += 1 - st.pair_list_reused + st.pair_list_searched_ahead;
   }
   EXPECT_EQ(g_allocations.load(), 0u);
   EXPECT_GT(kept, 0u);

@@ -176,8 +176,9 @@ struct World::Impl {
     // A restored world searches again at the saved positions (dense order) before its next step.
     bool restore_pending = false;
     std::vector<double> restored_x, restored_y, restored_z;
-    // Searched ahead (World::Impl::search_ahead, at the end of the last step): restored_x holds where
-    // that step's final positions and velocities place the bodies a little ahead, the fine grid and
+    // Searched ahead (World::Impl::search_ahead, at the end of the last step): restored_x, restored_y
+    // hold where that step's final positions and velocities place the bodies a little ahead
+    // (restored_z their heights as they were), the fine grid and
     // the solver's bodies are built there, and `found` holds the first part of the search; the next
     // step's search there only finishes it.
     bool searched_ahead = false;

@@ -35,6 +35,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "solver/contact_solver.h"
 #include "solver/pair_schedule_build.h"
@@ -64,7 +65,10 @@ constexpr double kAheadLeadTicks = 2.0;
 struct TopTwo {
   double first = 0.0, second = 0.0;
   void add(double d) {
-    if (!(d <= second)) {  // a NaN displacement (never expected) then fails the test in within_skin
+    // A NaN displacement (never expected: positions are finite) counts as infinite, which stays
+    // the largest and fails the test in within_skin whatever comes after it.
+    if (std::isnan(d)) d = std::numeric_limits<double>::infinity();
+    if (!(d <= second)) {
       second = std::min(d, first);
       first = std::max(d, first);
     }
@@ -72,7 +76,7 @@ struct TopTwo {
 };
 
 // Also folds into `next` the displacements the next step's check would find if every body went on
-// at its last tick's actual velocity (ax, ay over dt): search_ahead_due's forecast.
+// at its last tick's horizontal velocity (ax, ay over dt): search_ahead_due's forecast.
 void fold_displacements(std::size_t begin, std::size_t end, const double* x, const double* y, const double* z,
                         const std::uint32_t* index, const double* x0, const double* y0, const double* z0,
                         const double* ax, const double* ay, double dt, detail::SolverBodies* out, TopTwo& top,
@@ -196,8 +200,10 @@ void World::Impl::search_ahead() {
   l.restored_x.resize(n);
   l.restored_y.resize(n);
   l.restored_z.assign(bodies.z.begin(), bodies.z.end());
-  // A lead longer than the skin could not be kept anyway (such a body outruns any list in a tick);
-  // the clamp also keeps the positions finite whatever the velocity.
+  // Heights stay as they are (a list's pairs of grounded bodies cannot change height, and the
+  // forecast leaves vertical motion out too). The lead is clamped per axis to the skin: a body that
+  // fast moves more than half the skin a tick, so a longer lead would not make its lists last; the
+  // clamp also keeps a finite position finite for any finite velocity.
   const double lead = kAheadLeadTicks * settings.dt_s, skin = pair_list_skin();
   for (std::size_t i = 0; i < n; ++i) {
     l.restored_x[i] = bodies.x[i] + std::clamp(bodies.ax[i] * lead, -skin, skin);

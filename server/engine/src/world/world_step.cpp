@@ -358,17 +358,21 @@ void World::Impl::store_warm_start_and_events() {
   }
 }
 
-// The re-sort's ticks: the first of each kReorderPeriodTicks, or the second when the first began or
-// finished a list's search (a re-sort costs about as much as half a search, and the two together
-// made the heaviest ticks); when both did, that period has none. Reads only the tick, the list's
-// state and this step's decision to search ahead, so a restored world re-sorts on the same ticks.
+// The re-sort's ticks: the first of each kReorderPeriodTicks if it surely does no search work, else
+// the second if that one surely does none; when neither, that period has none (a re-sort costs about
+// as much as half a search, and the two together made the heaviest ticks). "Surely none": the tick
+// keeps a list it already kept the tick before and does not begin the next one. A list's first
+// kept tick is not told apart from the tick that finished a search ahead (both count one kept
+// tick, and a checkpoint holds no more), so it counts as a search's tick. Reads only the tick, the
+// list's state and this step's decision to search ahead, so a restored world re-sorts on the same
+// ticks.
 bool World::Impl::reorder_due(bool searching_ahead) const {
   const std::uint64_t phase = tick % kReorderPeriodTicks;
   if (phase > 1) return false;
   if (list_record() != ListRecord::kKept) return phase == 0;  // no list (search_ahead_due needs one)
-  // A list this step searched (kept_ticks counts this tick), or one it ends by beginning the next.
+  // kept_ticks counts this tick: 0 searched the list in this tick, 1 is its first kept tick.
   if (searching_ahead || list.kept_ticks < 2) return false;
-  // The period's first tick, or the second after a first that searched this list (its first tick).
+  // Phase 1 re-sorts only if phase 0 could not: then it was this list's first kept tick.
   return phase == 0 || list.kept_ticks == 2;
 }
 

@@ -83,9 +83,9 @@ class World {
   std::uint64_t state_hash() const;
   std::size_t body_count() const;
   // Dense views in the world's internal order. The order changes when bodies are created or
-  // destroyed AND every 16 ticks inside step() (spatial re-sort for cache locality), so never keep
-  // per-body arrays in dense order across a step without remapping; id_at() maps a dense index
-  // back to the id.
+  // destroyed AND at most once every 16 ticks inside step() (spatial re-sort for cache locality,
+  // published by last_reorder()), so never keep per-body arrays in dense order across a step
+  // without remapping; id_at() maps a dense index back to the id.
   std::span<const double> pos_x() const;
   std::span<const double> pos_y() const;
   std::span<const double> pos_z() const;
