@@ -178,9 +178,9 @@ struct World::Impl {
     std::vector<double> restored_x, restored_y, restored_z;
     // Searched ahead (World::Impl::search_ahead, at the end of the last step): restored_x, restored_y
     // hold where that step's final positions and velocities place the bodies a little ahead
-    // (restored_z their heights as they were), the fine grid and
-    // the solver's bodies are built there, and `found` holds the first part of the search; the next
-    // step's search there only finishes it.
+    // (restored_z their heights as they were), the fine grid and the solver's bodies are built
+    // there, and `found` holds the first part of the search; the next step's search there only
+    // finishes it.
     bool searched_ahead = false;
     std::uint32_t ahead_capped = 0;  // bodies the first part capped
     // This step's forecast of the next step's check: the two largest displacements since the list's
@@ -190,7 +190,8 @@ struct World::Impl {
     bool all_fast = false;  // every entry is between grounded bodies (no scenery: no planes either)
     std::size_t live = 0;   // entries taken this tick: of_pair[0, live)
     std::vector<detail::CandidatePair> found;  // search scratch
-    std::vector<double> range_top;  // moved_within_skin: each range's two largest squared displacements and forecasts
+    // moved_within_skin: each range's two largest squared displacements, then its two largest forecasts
+    std::vector<double> range_top;
     std::vector<std::uint32_t> range_taken, range_warm;  // take_list_pairs: per range of entries
     // Anything but motion changed a pair: no list is kept, and a restored world does not search
     // the saved one again either (the saved world dropped it too).
