@@ -64,6 +64,12 @@ struct ServerTransport::Impl {
     join_reply_writer = &participant.create_writer(pub, *t.join_reply, kJoinReplyProfiles.writer);
     param_reply_writer = &participant.create_writer(pub, *t.param_reply, kParamReplyProfiles.writer);
     stats_writer = &participant.create_writer(pub, *t.server_stats, kServerStatsProfiles.writer);
+    // Over TCP no standby can reach this server (a TCP server has no peers of its own; --standby
+    // is UDP only), and its primary-claim reader would match its own writer: Fast DDS 2.9.1 then
+    // opens a TCP connection from the server to its own listener. That connection's two channels
+    // share one locator, so the transport forgets one of them, whose receive thread outlives the
+    // transport and can crash the process as it exits (seen: "pure virtual method called").
+    if (options.tcp_listen) return;
     try {
       participant.create_standby_topics();
     } catch (const TransportError& e) {
