@@ -53,12 +53,23 @@ ip netns exec "$srv" "$bin/throng-server" --listen "tcp://10.201.0.1:$port" --pu
   >"$out/server.txt" 2>&1 &
 server_pid=$!
 
+# Players connect once the server is up, as in a fleet (Agones hands out a server's address only
+# once it is Ready): the server logs its listener after its DDS endpoints exist.
+for _ in $(seq 1 300); do
+  grep -q "listening on tcp://" "$out/server.txt" 2>/dev/null && break
+  kill -0 "$server_pid" 2>/dev/null || break
+  sleep 0.1
+done
+grep -q "listening on tcp://" "$out/server.txt" || { echo "netns-match: the server did not start" >&2; tail -20 "$out/server.txt" >&2; exit 1; }
+
 echo "netns-match: server in $srv listening on tcp://10.201.0.1:$port; $bots bots in $cli for $seconds s"
 if ! ip netns exec "$cli" "$bin/throng-bots" --server "tcp://10.201.0.1:$port" --clients "$bots" --duration "$seconds" \
   --server-wait 20 --json "$out/bots.json" -q >"$out/bots.txt" 2>&1; then
   echo "netns-match: throng-bots failed:" >&2
   tail -20 "$out/bots.txt" >&2
   tail -20 "$out/server.txt" >&2
+  # The TCP connections as they stand (a stalled discovery: was the bots' connection up?).
+  for ns in "$srv" "$cli"; do echo "netns-match: TCP in $ns:" >&2; ip netns exec "$ns" ss -tni >&2 || true; done
   exit 1
 fi
 kill -TERM "$server_pid"
