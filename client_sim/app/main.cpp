@@ -108,6 +108,15 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 1;  // --help: 0; any usage error: 1
   }
   o.progress = !quiet;
+  if (o.participant_per_client && !o.server.empty()) {
+    // Fast DDS 2.9 keys a client's TCP connection by its host and process id (a client has no
+    // listening port), so one process's participants would share one key at the server, which
+    // then delivers to one of them only: none of the bots joined.
+    fmt::print(stderr,
+               "throng-bots: --participant-per-client does not work with --server (TCP): the server tells TCP clients "
+               "apart by host and process; run one throng-bots process per participant instead\n");
+    return 1;
+  }
 
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);

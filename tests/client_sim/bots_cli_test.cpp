@@ -41,6 +41,20 @@ TEST(BotsCli, BadUsageIsRefused) {
   }
 }
 
+// Over TCP the participants of one process cannot each reach the server (main.cpp says why):
+// refused before any participant is made, with the reason and what to do instead.
+TEST(BotsCli, ParticipantPerClientOverTcpIsRefusedWithTheReason) {
+  TempDir dir;
+  ChildProcess bots(kBots, {"--participant-per-client", "--server", "tcp://127.0.0.1:7400", "--server-wait", "1"},
+                    dir / "out", dir / "err");
+  const auto code = bots.wait(std::chrono::seconds(20));
+  ASSERT_TRUE(code);
+  EXPECT_EQ(*code, 1);
+  const std::string err = testing::read_file(dir / "err");
+  EXPECT_NE(err.find("--participant-per-client does not work with --server"), std::string::npos) << err;
+  EXPECT_NE(err.find("one throng-bots process per participant"), std::string::npos) << err;
+}
+
 TEST(BotsCli, RunsWritesJsonAndLeavesOnSigint) {
   constexpr int kDomain = 174;
   TempDir dir;
