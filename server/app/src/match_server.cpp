@@ -599,7 +599,7 @@ int MatchServer::run(bool handle_signals) {
   spdlog::info("match {} on DDS domain {} ({}): scene '{}', {} bodies, {} Hz, up to {} clients{}", m.match.match_info().match_id,
                m.options.domain,
                !m.options.listen.empty()
-                   ? fmt::format("TCP, listening on {}{}", m.options.listen,
+                   ? fmt::format("TCP, listening on {}{}; no hot standby can follow it over TCP", m.options.listen,
                                  m.options.public_address.empty() ? "" : ", clients told " + m.options.public_address)
                    : (m.options.loopback_only ? "127.0.0.1 only" : "default network"),
                m.scene.name,
