@@ -65,9 +65,9 @@ TEST(DdsContacts, RoundTripInTheClientsPartitionWithTheComputedWireSize) {
   server.open_client_channel(1, "c1");
   server.open_client_channel(2, "c2");
 
+  Inbox<std::pair<ContactPairs, std::size_t>> got1, got2, snapshots1;
   ClientTransport client(loopback(122, "viewer"));
   client.start({});
-  Inbox<std::pair<ContactPairs, std::size_t>> got1, got2, snapshots1;
   client.subscribe_contacts(1, "c1", [&](ContactPairs&& c, std::size_t bytes) { got1.push({std::move(c), bytes}); });
   client.subscribe_contacts(2, "c2", [&](ContactPairs&& c, std::size_t bytes) { got2.push({std::move(c), bytes}); });
   client.subscribe_snapshots(1, "c1", [&](Snapshot&&, std::size_t) { snapshots1.push({}); });

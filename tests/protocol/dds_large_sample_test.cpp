@@ -49,8 +49,8 @@ TEST(DdsLargeSample, RosterOfTenThousandArrivesIntactLiveAndFromHistory) {
   server.start({});
 
   // Live: the client is already there when the sample is written.
-  ClientTransport live(loopback(118, "live-client"));
   Inbox<MatchInfo> live_infos;
+  ClientTransport live(loopback(118, "live-client"));
   live.start({.on_match_info = [&](MatchInfo&& m) { live_infos.push(std::move(m)); }, .on_join_reply = {},
               .on_param_reply = {}, .on_stats = {}});
   ASSERT_TRUE(live.wait_for_server(test::kWait));
@@ -66,8 +66,8 @@ TEST(DdsLargeSample, RosterOfTenThousandArrivesIntactLiveAndFromHistory) {
   test::expect_same(live_infos.items().front(), big);
 
   // Late: transient-local history hands the same large sample to a newcomer.
-  ClientTransport late(loopback(118, "late-client"));
   Inbox<MatchInfo> late_infos;
+  ClientTransport late(loopback(118, "late-client"));
   late.start({.on_match_info = [&](MatchInfo&& m) { late_infos.push(std::move(m)); }, .on_join_reply = {},
               .on_param_reply = {}, .on_stats = {}});
   ASSERT_TRUE(late_infos.wait_for_count(1));

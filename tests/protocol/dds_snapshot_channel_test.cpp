@@ -54,9 +54,9 @@ TEST(DdsSnapshotChannel, EachClientReceivesOnlyItsOwnPartition) {
 
   // Two clients multiplexed on one participant, a third client on its own participant, and a
   // subscription to a partition nobody writes.
+  Inbox<Received> got1, got2, got2_viewer, got3;
   ClientTransport bots(loopback(115, "bots"));
   ClientTransport viewer(loopback(115, "viewer"));
-  Inbox<Received> got1, got2, got2_viewer, got3;
   bots.start({});
   viewer.start({});
   bots.subscribe_snapshots(1, "c1", into(got1));
@@ -105,9 +105,9 @@ TEST(DdsSnapshotChannel, CloseStopsDeliveryAndReopenResumesIt) {
   ServerTransport server(loopback(116, "server"));
   server.start({});
   server.open_client_channel(4, "c4");
+  Inbox<Received> got;
   ClientTransport client(loopback(116, "client"));
   client.start({});
-  Inbox<Received> got;
   client.subscribe_snapshots(4, "c4", into(got));
 
   std::uint64_t tick = 0;
@@ -147,9 +147,9 @@ TEST(DdsSnapshotChannel, UnsubscribeStopsAndResubscribeReplacesTheHandler) {
   server.start({});
   server.open_client_channel(5, "c5");
   server.open_client_channel(6, "c6");
+  Inbox<Received> first, second, moved;
   ClientTransport client(loopback(117, "client"));
   client.start({});
-  Inbox<Received> first, second, moved;
   client.subscribe_snapshots(5, "c5", into(first));
 
   std::uint64_t tick = 0;

@@ -28,6 +28,8 @@ inline TransportOptions loopback(int domain_id, const std::string& name) {
   return o;
 }
 
+// Declare an inbox before the transport whose handlers push into it: locals are destroyed in
+// reverse order, and a transport's listener threads may deliver until its destructor returns.
 template <class T>
 class Inbox {
  public:
