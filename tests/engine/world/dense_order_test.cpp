@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <map>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "throng/scene/build_scene.h"
@@ -134,6 +136,70 @@ TEST(DenseOrder, CreateDestroyAndRestoreEmptyTheReSort) {
   ASSERT_FALSE(restored.last_reorder().empty());
   restored.restore_state(saved);
   EXPECT_TRUE(restored.last_reorder().empty());
+}
+
+// A re-sort leaves the parameter records in the old order until a later tick settles them: reads,
+// writes, checkpoints, creation and destruction in between must still find each body's own record.
+TEST(DenseOrder, ParameterRecordsFollowTheirBodiesThroughEveryReSort) {
+  World w = scattered_world(400);
+  std::map<std::uint32_t, double> weight;  // by id value
+  for (std::size_t d = 0; d < w.body_count(); ++d) {
+    const ObjectId id = w.id_at(d);
+    const double kg = 40.0 + static_cast<double>((d * 7) % 200);
+    w.set_param(id, params::Param::weight_kg, kg);
+    weight[id.value] = kg;
+  }
+  const auto expect_own_records = [&](const World& world, const std::string& when) {
+    for (std::size_t d = 0; d < world.body_count(); ++d) {
+      const ObjectId id = world.id_at(d);
+      const params::ObjectParams& p = world.params(id);
+      ASSERT_EQ(p.object_id, id.value) << when << ", dense index " << d;
+      ASSERT_EQ(p.weight_kg, weight.at(id.value)) << when << ", dense index " << d;
+    }
+  };
+
+  int re_sorts = 0;
+  for (int t = 0; t < 200 && re_sorts < 3; ++t) {
+    w.step();
+    const std::string when = "after tick " + std::to_string(w.tick());
+    expect_own_records(w, when);
+    if (w.last_reorder().empty()) continue;
+    ++re_sorts;
+    if (re_sorts == 2) {
+      // A write between the re-sort and the settling reaches the body's record (its push share
+      // follows), and a checkpoint taken there restores the same records and the same ticks.
+      const ObjectId heavy = w.id_at(5);
+      w.set_param(heavy, params::Param::weight_kg, 900.0);
+      weight[heavy.value] = 900.0;
+      expect_own_records(w, when + ", after a write");
+      std::vector<std::uint8_t> saved;
+      w.save_state(saved);
+      World twin = scattered_world(400);
+      twin.restore_state(saved);
+      expect_own_records(twin, when + ", restored");
+      for (int k = 0; k < 40; ++k) {
+        w.step();
+        twin.step();
+        ASSERT_EQ(twin.state_hash(), w.state_hash()) << "tick " << w.tick() << " after a restore between re-sort and settling";
+        expect_own_records(twin, "restored twin at tick " + std::to_string(twin.tick()));
+      }
+    } else if (re_sorts == 3) {
+      const ObjectId gone = w.id_at(3);
+      w.destroy_body(gone);
+      weight.erase(gone.value);
+      expect_own_records(w, when + ", after a destroy");
+      BodyDef def;
+      def.position = {60.0, 60.0, 0.35};
+      const ObjectId added = w.create_body(def);
+      weight[added.value] = w.params(added).weight_kg;
+      expect_own_records(w, when + ", after a create");
+      for (int k = 0; k < 20; ++k) {
+        w.step();
+        expect_own_records(w, "tick " + std::to_string(w.tick()) + " after a create");
+      }
+    }
+  }
+  EXPECT_EQ(re_sorts, 3);
 }
 
 TEST(DenseOrder, DenseIndexFindsBodiesAndNothingElse) {

@@ -73,10 +73,12 @@ params::SidePredicate get_predicate(ByteReader& r) {
 
 }  // namespace
 
-void put_params(ByteWriter& w, std::span<const params::ObjectParams> records, ObjectIdField ids) {
+void put_params(ByteWriter& w, std::span<const params::ObjectParams> records, ObjectIdField ids,
+                std::span<const std::uint32_t> order) {
   const bool with_id = ids == ObjectIdField::kept;
   Cursor c{w.grow(records.size() * (with_id ? kParamsRecordBytes : kParamsRecordBytesWithoutId))};
-  for (const params::ObjectParams& p : records) {
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const params::ObjectParams& p = records[order.empty() ? i : order[i]];
     if (with_id) c.put(p.object_id);
     c.put(p.collision_id);
     c.put(static_cast<std::uint8_t>(p.kind));

@@ -23,7 +23,10 @@ inline constexpr std::size_t kParamsRecordBytesWithoutId = 116;
 // because a body's object id is its ObjectId, which the slot table already names.
 enum class ObjectIdField : std::uint8_t { kept, left_out };
 
-void put_params(ByteWriter& w, std::span<const params::ObjectParams> records, ObjectIdField ids = ObjectIdField::kept);
+// With a non-empty order, record i written is records[order[i]] (bodies whose records still wait
+// for a re-sort's order: World::Impl::params_order).
+void put_params(ByteWriter& w, std::span<const params::ObjectParams> records, ObjectIdField ids = ObjectIdField::kept,
+                std::span<const std::uint32_t> order = {});
 // Reads exactly n records; categorical values out of range throw CheckpointError. With left_out
 // the records' object_id is 0, for the caller to set.
 void get_params(ByteReader& r, std::size_t n, std::vector<params::ObjectParams>& out, const char* what,

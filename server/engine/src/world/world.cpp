@@ -114,6 +114,7 @@ ObjectId World::create_body(const BodyDef& def) {
   w.bodies.grounded[dense] = def.grounded ? 1 : 0;
   w.bodies.id[dense] = id;
   w.bodies.coeff_dirty[dense] = 1;
+  w.settle_params();
   w.body_params.push_back(p);
   w.max_body_reach_m = std::max(w.max_body_reach_m, def.radius_m + w.settings.contact_margin_m);
   return id;
@@ -124,6 +125,7 @@ void World::destroy_body(ObjectId id) {
   const std::uint32_t dense = w.body_index(id, "destroy_body");
   w.last_reorder.clear();
   const std::size_t last = w.bodies.size() - 1;
+  w.settle_params();
   if (dense != last) {
     const ObjectId moved = w.bodies.id[last];
     w.slots[moved.index()].ref = dense;
@@ -184,9 +186,9 @@ void World::set_param(ObjectId id, params::Param param, double value) {
     w.fixed_params[s->ref] = copy;
     return;
   }
-  params::ObjectParams copy = w.body_params[s->ref];
+  params::ObjectParams copy = w.params_of(s->ref);
   copy.set(param, value);
-  w.body_params[s->ref] = copy;
+  w.params_of(s->ref) = copy;
   w.bodies.coeff_dirty[s->ref] = 1;
 }
 
@@ -240,7 +242,7 @@ Vec3 World::velocity(ObjectId id) const {
 const params::ObjectParams& World::params(ObjectId id) const {
   const Impl::Slot* s = impl_->find(id);
   if (s == nullptr) throw std::invalid_argument("params: unknown " + id_text(id));
-  return s->kind == Impl::SlotKind::kFixed ? impl_->fixed_params[s->ref] : impl_->body_params[s->ref];
+  return s->kind == Impl::SlotKind::kFixed ? impl_->fixed_params[s->ref] : impl_->params_of(s->ref);
 }
 const params::PushPolicy& World::policy() const { return impl_->policy; }
 const WorldSettings& World::settings() const { return impl_->settings; }

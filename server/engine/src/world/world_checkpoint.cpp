@@ -145,7 +145,8 @@ void World::Impl::save_state(ByteWriter& w) const {
       p += 12;
     }
   }
-  detail::put_params(w, body_params, detail::ObjectIdField::left_out);  // a body's object id is its id
+  // A body's object id is its id; the records in dense order, whether settled or not.
+  detail::put_params(w, body_params, detail::ObjectIdField::left_out, params_order);
   w.put(static_cast<std::uint32_t>(cameras.size()));
   for (const Vec3& c : cameras) { w.put(c.x); w.put(c.y); w.put(c.z); }
   w.put(static_cast<std::uint8_t>(all_coefficients_dirty ? 1 : 0));
@@ -422,6 +423,7 @@ void World::Impl::apply_state(detail::WorldState&& st) {
   list.restored_y = std::move(st.pair_list_y);
   list.restored_z = std::move(st.pair_list_z);
   body_params = std::move(st.body_params);
+  params_order.clear();
   cameras = std::move(st.cameras);
   all_coefficients_dirty = st.all_coefficients_dirty;
   groups = std::move(g);

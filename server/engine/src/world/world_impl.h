@@ -59,7 +59,14 @@ struct World::Impl {
 
   // Movable bodies.
   detail::BodyStore bodies;
+  // Per-body parameter records, read through params_of: a re-sort leaves them in the order before
+  // it (params_order maps dense index -> record) until a tick without search work settles them.
   std::vector<params::ObjectParams> body_params;
+  std::vector<std::uint32_t> params_order;  // empty: body_params is in dense order
+  params::ObjectParams& params_of(std::size_t d) { return body_params[params_order.empty() ? d : params_order[d]]; }
+  const params::ObjectParams& params_of(std::size_t d) const {
+    return body_params[params_order.empty() ? d : params_order[d]];
+  }
   std::vector<Vec3> cameras;
   std::vector<std::array<double, 3>> camera_xyz;
   bool all_coefficients_dirty = true;
@@ -258,6 +265,7 @@ struct World::Impl {
   bool moved_within_skin(bool restored);
   bool search_ahead_due();
   bool reorder_due(bool searching_ahead) const;
+  bool surely_no_search_work(bool searching_ahead) const;
   void search_ahead();
   bool relieve_piles();
   void build_scenery_planes();
@@ -269,6 +277,9 @@ struct World::Impl {
   void store_warm_start_and_events();
   void finish_tick();
   void reorder_dense();
+  // Puts body_params into dense order (no-op when it is); no allocation once params_scratch has
+  // reached the body count.
+  void settle_params();
 
   // checkpoints (world_checkpoint.cpp)
   std::uint64_t config_hash() const;

@@ -44,11 +44,13 @@ void World::Impl::update_dynamic_params() {
   if (dyn.policy_version != policy_version) refresh_dynamic_use();
   const std::size_t n = bodies.size();
   const bool per_body = dyn.speed_facing || dyn.height || dyn.camera;
+  // These read (or write) every body's record each tick: in dense order, not through params_order.
+  if (per_body || dyn.morale || dyn.slow_share) settle_params();
   if (per_body) {
     camera_xyz.resize(cameras.size());
     for (std::size_t c = 0; c < cameras.size(); ++c) camera_xyz[c] = {cameras[c].x, cameras[c].y, cameras[c].z};
     for (std::size_t i = 0; i < n; ++i) {
-      params::ObjectParams& p = body_params[i];
+      params::ObjectParams& p = body_params[i];  // settled above
       if (dyn.speed_facing) params::apply_velocity(p, bodies.ax[i], bodies.ay[i], bodies.az[i]);
       const double base_z = bodies.z[i] - bodies.hh[i] - bodies.r[i];
       if (dyn.height) {
@@ -106,7 +108,7 @@ void World::Impl::refresh_coefficients() {
   const std::size_t n = bodies.size();
   for (std::size_t i = 0; i < n; ++i) {
     if (!all_coefficients_dirty && bodies.coeff_dirty[i] == 0) continue;
-    const params::ObjectParams& p = body_params[i];
+    const params::ObjectParams& p = params_of(i);
     const params::PushCoefficients c = policy.coefficients(p, groups);
     // A kept pair list keeps its pairs' shares until a resistance changes.
     if (!(bodies.resistance[i] == c.resistance)) list.shares_stale = true;
@@ -125,9 +127,9 @@ void World::Impl::refresh_coefficients() {
 double World::Impl::pair_share(std::uint32_t a, std::uint32_t b, double nx, double ny) const {
   if (!dyn.slow_share) return params::share_a_fast(bodies.resistance[a], bodies.resistance[b]);
   const params::PairView va{{bodies.resistance[a], bodies.rule_lhs[a], bodies.rule_rhs[a]},
-                            &body_params[a], bodies.id[a].value, nx, ny, 0.0};
+                            &params_of(a), bodies.id[a].value, nx, ny, 0.0};
   const params::PairView vb{{bodies.resistance[b], bodies.rule_lhs[b], bodies.rule_rhs[b]},
-                            &body_params[b], bodies.id[b].value, -nx, -ny, 0.0};
+                            &params_of(b), bodies.id[b].value, -nx, -ny, 0.0};
   return policy.share_a(va, vb, groups);
 }
 

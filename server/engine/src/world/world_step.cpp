@@ -75,7 +75,11 @@ const StepStats& World::step() {
   w.finish_tick();
   w.last_reorder.clear();
   const bool ahead = w.search_ahead_due();
-  if (w.reorder_due(ahead)) w.reorder_dense();
+  if (w.reorder_due(ahead)) {
+    w.reorder_dense();
+  } else if (!w.params_order.empty() && w.surely_no_search_work(ahead)) {
+    w.settle_params();
+  }
   if (ahead) {
     t = Clock::now();
     w.search_ahead();
@@ -370,28 +374,47 @@ bool World::Impl::reorder_due(bool searching_ahead) const {
   const std::uint64_t phase = tick % kReorderPeriodTicks;
   if (phase > 1) return false;
   if (list_record() != ListRecord::kKept) return phase == 0;  // no list (search_ahead_due needs one)
-  // kept_ticks counts this tick: 0 searched the list in this tick, 1 is its first kept tick.
-  if (searching_ahead || list.kept_ticks < 2) return false;
+  if (!surely_no_search_work(searching_ahead)) return false;
   // Phase 1 re-sorts only if phase 0 could not: then it was this list's first kept tick.
   return phase == 0 || list.kept_ticks == 2;
+}
+
+// This tick kept a list it already kept the tick before and begins no search; without a kept list
+// (crowds too sparse or too fast for one) every tick is alike, so any tick will do.
+bool World::Impl::surely_no_search_work(bool searching_ahead) const {
+  if (list_record() != ListRecord::kKept) return true;
+  // kept_ticks counts this tick: 0 searched the list in this tick, 1 is its first kept tick.
+  return !searching_ahead && list.kept_ticks >= 2;
 }
 
 // Every few ticks the dense arrays are put into the broadphase's spatial order, so that the
 // gather/scatter between dense and solver order walks memory almost sequentially instead of
 // jumping at random (bodies spawned in random order would otherwise stay scattered forever).
+//
+// The parameter records follow later (params_order, settle_params): they are cold (read when
+// parameters change, or every tick only by policies that use dynamic parameters, which settle them
+// first), yet at well over a hundred bytes a body their copy was the larger part of a re-sort, and
+// re-sort ticks were the heaviest kind of tick.
 void World::Impl::reorder_dense() {
   std::vector<std::uint32_t>& order = solver_order;
   if (order.size() != bodies.size()) return;  // bodies were created or destroyed since the solve
+  settle_params();  // the records follow one permutation at a time
   bodies.permute(order, body_scratch);
-  params_scratch.resize(order.size());
-  for (std::size_t s = 0; s < order.size(); ++s) params_scratch[s] = body_params[order[s]];
-  params_scratch.swap(body_params);
+  params_order.assign(order.begin(), order.end());
   for (std::size_t s = 0; s < order.size(); ++s) slots[bodies.id[s].index()].ref = static_cast<std::uint32_t>(s);
   // Published before the order becomes the identity (assign within the capacity: no allocation
   // after the first re-sort).
   last_reorder.assign(order.begin(), order.end());
   // Dense index s now holds solver slot s; a kept pair list (in solver indices) stays valid.
   for (std::size_t s = 0; s < order.size(); ++s) order[s] = static_cast<std::uint32_t>(s);
+}
+
+void World::Impl::settle_params() {
+  if (params_order.empty()) return;
+  params_scratch.resize(params_order.size());
+  for (std::size_t s = 0; s < params_order.size(); ++s) params_scratch[s] = body_params[params_order[s]];
+  params_scratch.swap(body_params);
+  params_order.clear();
 }
 
 void World::Impl::finish_tick() {
