@@ -463,6 +463,40 @@ TEST(PairList, CheckpointRejectsABrokenList) {
 // Two columns passing each other at 9 m/s (0.15 m a tick each): every list is outrun in its first
 // tick, so the world searches without a list for kCooldownTicks ticks, then twice as long after
 // each further list that did not pay.
+// A crowd that packs tighter has more pairs per list than at its first search. The list's columns
+// keep room for that: a later, longer list must not reallocate them (a tick that did was the
+// slowest of a 20,000-body run after the first few, its memory faulted in anew).
+TEST(PairList, ColumnsKeepRoomForListsLongerThanTheFirst) {
+  scene::BuiltScene b = scene::build_scene(scene::scale_scene(scene::builtin_scene("crush"), 3000));
+  const Impl& w = WorldProbe::impl(b.world);
+  const auto columns = [&] {
+    const Impl::PairList& l = w.list;
+    return std::vector<const void*>{l.a.data(), l.b.data(), l.target.data(), l.reach.data(), l.share.data(),
+                                    l.lambda.data(), l.slot.data(), l.of_pair.data()};
+  };
+  // The first search's entries (its tick may still drop the list: a second search after deep spawn
+  // overlaps).
+  for (int t = 0; t < 10 && w.list.a.empty(); ++t) step(b);
+  const std::size_t first = w.list.a.size();
+  ASSERT_GT(first, 0u) << "no list searched in 10 ticks";
+  const std::vector<const void*> where = columns();
+  const Impl::PairList& l = w.list;
+  for (const std::size_t capacity : {l.a.capacity(), l.b.capacity(), l.target.capacity(), l.reach.capacity(),
+                                     l.share.capacity(), l.lambda.capacity(), l.slot.capacity(), l.of_pair.capacity()}) {
+    EXPECT_GE(capacity, 2 * first);
+  }
+  std::size_t longest = first;
+  for (int t = 0; t < 300 && longest <= 2 * first; ++t) {
+    step(b);
+    longest = std::max(longest, l.a.size());
+    if (l.a.size() <= 2 * first) {
+      ASSERT_EQ(columns(), where) << "a list of " << l.a.size() << " entries (the first had " << first
+                                  << ") moved the columns, tick " << b.world.tick();
+    }
+  }
+  EXPECT_GT(longest, first) << "no list outgrew the first: the test shows nothing";
+}
+
 TEST(PairList, TooFastForTheSkinSearchesWithoutAListForLongerAndLonger) {
   WorldSettings s;
   World w(s, test::test_table(), test::weight_policy(params::PushMode::ratio, 100.0));

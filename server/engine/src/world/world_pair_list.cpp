@@ -36,6 +36,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <vector>
 
 #include "solver/contact_solver.h"
 #include "solver/pair_schedule_build.h"
@@ -93,6 +94,16 @@ void fold_displacements(std::size_t begin, std::size_t end, const double* x, con
     const double nx = dx + ax[i] * dt, ny = dy + ay[i] * dt;
     next.add(nx * nx + ny * ny + dz * dz);
   }
+}
+
+// A list's columns grow to twice the entries they first need: a crowd that packs tighter has more
+// pairs per body than at its first search, and a list just past the columns' capacity reallocated
+// and faulted in eight columns in one tick, which made that search part several times its usual
+// cost (the slowest tick of a large crowd after its first few).
+template <class T>
+void resize_with_room(std::vector<T>& v, std::size_t m) {
+  if (m > v.capacity()) v.reserve(2 * m);
+  v.resize(m);
 }
 
 // Whether no two bodies have together moved more than `skin`: the sum of the two largest
@@ -299,13 +310,13 @@ bool World::Impl::search_pair_list(const double* x, const double* y, const doubl
   // schedule slot and the share. The pushes are looked up in the cache by this tick's
   // pairs_from_list (and kept only for the entries within the margin).
   const std::size_t m = l.found.size();
-  l.a.resize(m);
-  l.b.resize(m);
-  l.target.resize(m);
-  l.reach.resize(m);
-  l.share.resize(m);
-  l.lambda.resize(m);
-  l.slot.resize(m);
+  resize_with_room(l.a, m);
+  resize_with_room(l.b, m);
+  resize_with_room(l.target, m);
+  resize_with_room(l.reach, m);
+  resize_with_room(l.share, m);
+  resize_with_room(l.lambda, m);
+  resize_with_room(l.slot, m);
   gather_list_resistances();
   for_entry_ranges(m, [&](std::size_t begin, std::size_t end) { set_up_entries(begin, end, margin); });
   l.shares_stale = false;
@@ -480,7 +491,7 @@ void World::Impl::pairs_from_list(bool gathered) {
   PairList& l = list;
   const std::size_t m = l.a.size();
   if (l.shares_stale) refresh_list_shares();
-  l.of_pair.resize(m);
+  resize_with_room(l.of_pair, m);
   if (l.fresh) take_list_pairs<true>();
   else take_list_pairs<false>();
   l.fresh = false;
