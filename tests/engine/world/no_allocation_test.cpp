@@ -60,6 +60,33 @@ TEST(WorldNoAllocation, SettledCrowdTicksWithoutAllocating) {
   EXPECT_EQ(g_allocations.load(), 0u);
 }
 
+// The re-sort's buffers are sized on the first step after the crowd grew: the first re-sort and
+// the settling of the parameter records after it allocate nothing (they ran on ordinary ticks,
+// which the fresh memory made some of a run's slowest).
+TEST(WorldNoAllocation, FirstReSortAndSettlingAllocateNothingAfterTheFirstStep) {
+  WorldSettings s;
+  s.iterations = 8;
+  World w(s, test_table(), weight_policy(params::PushMode::ratio, 100.0));
+  // A resting grid created in a scrambled order, so that the re-sort moves every body.
+  constexpr int kSide = 30;
+  for (int k = 0; k < kSide * kSide; ++k) {
+    const int cell = (k * 7919) % (kSide * kSide);
+    add_sphere(w, 0.8 * (cell % kSide), 0.8 * (cell / kSide), 0.35, k % 3 ? "infantry" : "heavy");
+  }
+  w.step();  // sizes the re-sort's buffers
+  w.step();  // the list's first kept tick sizes its check
+  std::uint32_t re_sorts = 0;
+  g_allocations = 0;
+  for (int t = 0; t < 18; ++t) {
+    g_counting = true;
+    w.step();
+    g_counting = false;
+    re_sorts += w.last_reorder().empty() ? 0 : 1;
+  }
+  EXPECT_EQ(re_sorts, 1u);
+  EXPECT_EQ(g_allocations.load(), 0u);
+}
+
 // An open crowd (no scenery) keeps its pair list across ticks and searches a new one now and then
 // (world_pair_list.cpp): neither allocates once the crowd has settled into its jam.
 void open_crowd_ticks_without_allocating(int side, std::uint32_t threads) {

@@ -280,6 +280,7 @@ struct World::Impl {
   // Puts body_params into dense order (no-op when it is); no allocation once params_scratch has
   // reached the body count.
   void settle_params();
+  void size_reorder_scratch();
 
   // checkpoints (world_checkpoint.cpp)
   std::uint64_t config_hash() const;

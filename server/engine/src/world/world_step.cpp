@@ -25,6 +25,7 @@ const StepStats& World::step() {
   const auto t0 = Clock::now();
   w.stats = StepStats{};
   w.stats.tick = w.tick + 1;
+  if (w.params_scratch.size() < w.bodies.size()) w.size_reorder_scratch();
   if (w.scenery_dirty || (w.scenery.size() > 0 && w.max_body_reach_m + 1.0 > w.scenery_reach_m)) {
     w.rebuild_scenery_cells(w.max_body_reach_m + 1.0);
   }
@@ -407,6 +408,19 @@ void World::Impl::reorder_dense() {
   last_reorder.assign(order.begin(), order.end());
   // Dense index s now holds solver slot s; a kept pair list (in solver indices) stays valid.
   for (std::size_t s = 0; s < order.size(); ++s) order[s] = static_cast<std::uint32_t>(s);
+}
+
+// The re-sort's buffers (a copy of every dense column and of the parameter records: megabytes for a
+// large crowd) are allocated and faulted in on the first step after the crowd grew, not on the tick
+// of the first re-sort or settling: a world's first steps (a spawn's overlaps, a first search) are
+// its heaviest anyway, while a re-sort tick otherwise costs little more than a kept one.
+void World::Impl::size_reorder_scratch() {
+  const std::size_t n = bodies.size();
+  body_scratch.for_each_column([&](auto& column) { column.resize(n); });
+  body_scratch.warm.resize(n * detail::kWarmSlots);
+  params_scratch.resize(n);
+  params_order.reserve(n);
+  last_reorder.reserve(n);
 }
 
 void World::Impl::settle_params() {
