@@ -469,22 +469,21 @@ TEST(PairList, CheckpointRejectsABrokenList) {
 TEST(PairList, ColumnsKeepRoomForListsLongerThanTheFirst) {
   scene::BuiltScene b = scene::build_scene(scene::scale_scene(scene::builtin_scene("crush"), 3000));
   const Impl& w = WorldProbe::impl(b.world);
+  // Each column's data and capacity, in one list.
   const auto columns = [&] {
     const Impl::PairList& l = w.list;
-    return std::vector<const void*>{l.a.data(), l.b.data(), l.target.data(), l.reach.data(), l.share.data(),
-                                    l.lambda.data(), l.slot.data(), l.of_pair.data()};
+    const auto at = [](const auto& v) { return std::pair<const void*, std::size_t>{v.data(), v.capacity()}; };
+    return std::vector<std::pair<const void*, std::size_t>>{at(l.a),     at(l.b),      at(l.target), at(l.reach),
+                                                            at(l.share), at(l.lambda), at(l.slot),   at(l.of_pair)};
   };
   // The first search's entries (its tick may still drop the list: a second search after deep spawn
   // overlaps).
   for (int t = 0; t < 10 && w.list.a.empty(); ++t) step(b);
   const std::size_t first = w.list.a.size();
   ASSERT_GT(first, 0u) << "no list searched in 10 ticks";
-  const std::vector<const void*> where = columns();
+  const auto where = columns();
+  for (const auto& [data, capacity] : where) EXPECT_GE(capacity, 2 * first);
   const Impl::PairList& l = w.list;
-  for (const std::size_t capacity : {l.a.capacity(), l.b.capacity(), l.target.capacity(), l.reach.capacity(),
-                                     l.share.capacity(), l.lambda.capacity(), l.slot.capacity(), l.of_pair.capacity()}) {
-    EXPECT_GE(capacity, 2 * first);
-  }
   std::size_t longest = first;
   for (int t = 0; t < 300 && longest <= 2 * first; ++t) {
     step(b);

@@ -78,8 +78,8 @@ const StepStats& World::step() {
   const bool ahead = w.search_ahead_due();
   if (w.reorder_due(ahead)) {
     w.reorder_dense();
-  } else if (!w.params_order.empty() && w.surely_no_search_work(ahead)) {
-    w.settle_params();
+  } else if (w.surely_no_search_work(ahead)) {
+    w.settle_params();  // a no-op unless a re-sort left the records in their old order
   }
   if (ahead) {
     t = Clock::now();
