@@ -64,29 +64,36 @@ TEST(DenseOrder, EveryStepPublishesTheReSortItMadeAndOnlyThat) {
   EXPECT_GE(changed, 1u);  // the scattered creation order is not the spatial order
 }
 
-// The re-sort keeps off the ticks that begin or finish a list's search ahead (the two together were
+// The re-sort keeps off the ticks that take part in a list's search ahead (the two together were
 // the heaviest ticks): on a period's first tick when it surely does no search work, else on its
 // second when that one surely does none, and never twice in a period. "Surely none": it keeps a list
-// it kept the tick before and begins no search; the first tick after a search in a tick of its own
-// is not told apart from the tick that finished a search ahead (world_step.cpp, reorder_due).
+// it kept the tick before, and neither begins a search, finishes the scan of one begun in three
+// parts, nor takes the list of one (the first tick after a search in a tick of its own is not told
+// apart from the tick that took a list searched ahead: world_step.cpp, reorder_due).
 TEST(DenseOrder, ReSortsKeepOffTheTicksOfASearchAhead) {
   scene::BuiltScene b = scene::build_scene(scene::scale_scene(scene::builtin_scene("crush"), 3000));
   struct Seen {
-    bool ahead = false, kept = false;  // began a search ahead; kept a list (its own search or not)
+    bool began = false, finished = false;  // began a search ahead; finished the scan of one begun in three parts
+    bool takes = false;  // took the list of a search ahead (the tick after one begun in two, or finished)
+    bool kept = false;   // kept a list (its own search or not)
+    bool busy() const { return began || finished || takes; }
   };
   Seen before_last, last;  // the two ticks before this one
   std::vector<std::uint64_t> resorts;
-  std::size_t deferred = 0, ahead_ticks = 0;
+  std::size_t deferred = 0, began_ticks = 0, finished_ticks = 0;
   for (int t = 0; t < 400; ++t) {
     b.driver.apply(b.world);
     const StepStats st = b.world.step();
     const std::uint64_t tick = b.world.tick();
-    const Seen now{st.pair_list_searched_ahead != 0, st.pair_list_reused != 0 && st.second_search == 0};
-    ahead_ticks += now.ahead ? 1 : 0;
-    // Surely no search work: kept its list, kept one the tick before, begins none, and the tick
-    // before began none either (this one would have finished it).
-    const bool sure_now = now.kept && last.kept && !now.ahead && !last.ahead;
-    const bool sure_last = last.kept && before_last.kept && !last.ahead && !before_last.ahead;
+    Seen now;
+    now.began = st.pair_list_searched_ahead != 0;
+    now.finished = st.pair_list_ahead_finished != 0;
+    now.takes = (last.began && !now.finished) || last.finished;
+    now.kept = st.pair_list_reused != 0 && st.second_search == 0;
+    began_ticks += now.began ? 1 : 0;
+    finished_ticks += now.finished ? 1 : 0;
+    const bool sure_now = now.kept && last.kept && !now.busy();
+    const bool sure_last = last.kept && before_last.kept && !last.busy();
     const bool resorted = !b.world.last_reorder().empty();
     SCOPED_TRACE(tick);
     if (tick % 16 == 0 && sure_now) {
@@ -94,8 +101,9 @@ TEST(DenseOrder, ReSortsKeepOffTheTicksOfASearchAhead) {
     }
     if (resorted) {
       EXPECT_LE(tick % 16, 1u);
-      EXPECT_FALSE(now.ahead) << "re-sorted on a tick that began a search ahead";
-      EXPECT_FALSE(last.ahead) << "re-sorted on the tick that finished a search ahead";
+      EXPECT_FALSE(now.began) << "re-sorted on a tick that began a search ahead";
+      EXPECT_FALSE(now.finished) << "re-sorted on a tick that finished a search's scan";
+      EXPECT_FALSE(now.takes) << "re-sorted on the tick that took a list searched ahead";
       if (!resorts.empty()) {
         EXPECT_NE(resorts.back() / 16, tick / 16) << "two re-sorts in a period";
       }
@@ -108,15 +116,25 @@ TEST(DenseOrder, ReSortsKeepOffTheTicksOfASearchAhead) {
     before_last = last;
     last = now;
   }
-  EXPECT_GT(ahead_ticks, 20u);  // a marching crowd: lists searched ahead all along
-  EXPECT_GE(resorts.size(), 400u / 16 / 2);  // a period loses its re-sort only to a search's two ticks
+  EXPECT_GT(began_ticks, 20u);  // a marching crowd: lists searched ahead all along
+  EXPECT_GT(finished_ticks, began_ticks / 2);  // most of them in three parts
+  EXPECT_GE(resorts.size(), 400u / 16 / 3);  // a period loses its re-sort only to a search's ticks
   EXPECT_GE(deferred, 1u);  // some period's first tick took part in a search and its second did not
+}
+
+// Steps until a step re-sorts (a period whose first two ticks both take part in a list's search has
+// none), at most three periods.
+bool step_until_resorted(World& w) {
+  for (int t = 0; t < 48; ++t) {
+    w.step();
+    if (!w.last_reorder().empty()) return true;
+  }
+  return false;
 }
 
 TEST(DenseOrder, CreateDestroyAndRestoreEmptyTheReSort) {
   World w = scattered_world(100);
-  for (int t = 0; t < 16; ++t) w.step();
-  ASSERT_FALSE(w.last_reorder().empty());
+  ASSERT_TRUE(step_until_resorted(w));
   std::vector<std::uint8_t> saved;
   w.save_state(saved);
   BodyDef d;
@@ -124,16 +142,13 @@ TEST(DenseOrder, CreateDestroyAndRestoreEmptyTheReSort) {
   const ObjectId extra = w.create_body(d);
   EXPECT_TRUE(w.last_reorder().empty());
 
-  for (int t = 0; t < 16; ++t) w.step();
-  ASSERT_FALSE(w.last_reorder().empty());
+  ASSERT_TRUE(step_until_resorted(w));
   w.destroy_body(extra);
   EXPECT_TRUE(w.last_reorder().empty());
 
-  for (int t = 0; t < 16; ++t) w.step();
-  ASSERT_FALSE(w.last_reorder().empty());
+  ASSERT_TRUE(step_until_resorted(w));
   World restored = scattered_world(100);
-  for (int t = 0; t < 16; ++t) restored.step();
-  ASSERT_FALSE(restored.last_reorder().empty());
+  ASSERT_TRUE(step_until_resorted(restored));
   restored.restore_state(saved);
   EXPECT_TRUE(restored.last_reorder().empty());
 }

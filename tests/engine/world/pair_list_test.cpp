@@ -105,8 +105,11 @@ TEST(PairList, KeptTicksSolveExactlyThePairsASearchFinds) {
     if (st.pair_list_reused == 0) continue;
     ++kept;
     // A scheduled solve keeps the start positions in sb (an unscheduled one moves them), unless the
-    // step ended by beginning the next list's search, which gathers sb afresh.
-    if (!w.sb.displaced || st.pair_list_searched_ahead != 0) continue;
+    // step ended by putting the next list's grid in place, which gathers sb afresh: it began a
+    // search in two parts, or finished the scan of one in three (one begun in three leaves sb as
+    // it is: the kept list still serves the next step).
+    const bool two_part_begun = st.pair_list_searched_ahead != 0 && !w.list.ahead_begun;
+    if (!w.sb.displaced || two_part_begun || st.pair_list_ahead_finished != 0) continue;
     ++compared;
     const PairSet solved = solved_pairs(w);
     ASSERT_EQ(solved.size(), tick_pairs(w).size()) << "a pair listed twice, tick " << st.tick;
@@ -228,9 +231,11 @@ TEST(PairList, AnythingButMotionDropsTheList) {
   auto kept_after = [&](auto&& change) {
     bool motion_keeps = false;
     for (int t = 0; t < 40 && !motion_keeps; ++t) {
-      // (A step that searched ahead has ended its list: the next one takes the list searched.)
+      // (A step that began a search in two parts, or finished one begun in three, has ended its
+      // list: the next one takes the list searched.)
       const StepStats& st = w.step();
-      if (st.pair_list_reused == 0 || st.pair_list_searched_ahead != 0) continue;
+      const bool ended = (st.pair_list_searched_ahead != 0 && !impl.list.ahead_begun) || st.pair_list_ahead_finished != 0;
+      if (st.pair_list_reused == 0 || ended) continue;
       std::vector<std::uint8_t> saved;
       w.save_state(saved);
       scene::BuiltScene twin = crowd("crush", 2000, 0.2);
@@ -303,57 +308,81 @@ TEST(PairList, RestoredWorldKeepsTheListBitIdentically) {
   EXPECT_GT(kept, 20);
 }
 
-// A list searched ahead: the step that begins the next list's search records it as a restored
-// world's list (so a checkpoint taken then holds it as any other), and the next step finishes it.
-// A world restored from that checkpoint searches the whole list itself and continues with the same
-// bits; most of a marching crowd's lists are searched ahead, not in a tick of their own.
+// A list searched ahead. Begun in three parts, the kept list still serves the next step: only
+// ahead_begun says so (in a checkpoint and the hash too), and the step after finishes the scan and
+// records the list as a restored world's list, so a checkpoint taken then holds it as any other;
+// the step after that sets it up. Begun in two, the step records it at once. A world restored at
+// either boundary of a three-part search searches what it needs itself (the kept list again, then
+// the next one whole) and continues with the same bits; most of a marching crowd's lists are
+// searched ahead in three parts, not in a tick of their own.
 TEST(PairList, ListSearchedAheadRestoresBitIdentically) {
   scene::BuiltScene a = crowd("crush", 3000, 0.2);
   const Impl& impl = WorldProbe::impl(a.world);
-  int ahead = 0, whole = 0;
-  bool compared = false;
+  int begun3 = 0, begun2 = 0, whole = 0;
+  bool compared_begun = false, compared_finished = false;
+  auto count = [&](const StepStats& st) {
+    const bool three = st.pair_list_searched_ahead != 0 && impl.list.ahead_begun;
+    begun3 += three ? 1 : 0;
+    begun2 += st.pair_list_searched_ahead != 0 && !three ? 1 : 0;
+    whole += st.pair_list_reused == 0 && impl.list.valid ? 1 : 0;
+    return three;
+  };
   for (int t = 0; t < 200; ++t) {
     const StepStats& st = step(a);
-    if (st.pair_list_searched_ahead != 0) {
-      ++ahead;
+    const bool three = count(st);
+    if (three) {
+      EXPECT_TRUE(impl.list.valid) << "the kept list serves one more step";
+      EXPECT_FALSE(impl.list.restore_pending);
+      EXPECT_GE(impl.list.kept_ticks, 2u);
+    } else if (st.pair_list_searched_ahead != 0 || st.pair_list_ahead_finished != 0) {
       EXPECT_FALSE(impl.list.valid);
       EXPECT_TRUE(impl.list.restore_pending && impl.list.searched_ahead);
+      EXPECT_FALSE(impl.list.ahead_begun);
       EXPECT_EQ(impl.list.kept_ticks, 0u);
-    } else if (st.pair_list_reused == 0 && impl.list.valid) {
-      ++whole;
     }
-    if (st.pair_list_searched_ahead == 0 || compared || t < 20) continue;
-    compared = true;
+    const bool finished = st.pair_list_ahead_finished != 0;
+    if (t < 20 || !((three && !compared_begun) || (finished && !compared_finished))) continue;
+    (three ? compared_begun : compared_finished) = true;
+    SCOPED_TRACE(three ? "restored after a search was begun" : "restored after its scan was finished");
     std::vector<std::uint8_t> saved;
     a.world.save_state(saved);
     scene::BuiltScene b = crowd("crush", 3000, 0.2);
     b.world.restore_state(saved);
     ASSERT_EQ(a.world.state_hash(), b.world.state_hash());
-    EXPECT_FALSE(WorldProbe::impl(b.world).list.searched_ahead) << "a restored world has no search begun";
+    const Impl& restored = WorldProbe::impl(b.world);
+    EXPECT_FALSE(restored.list.searched_ahead) << "a restored world has no scan under way";
+    EXPECT_FALSE(restored.list.ahead_built);
+    EXPECT_EQ(restored.list.ahead_begun, three);
     // Both worlds step on with the same driver inputs (the drivers are the same scene's).
     b.driver = a.driver;
     for (int k = 0; k < 60; ++k) {
       const StepStats sa = step(a);
       const StepStats sb = step(b);
       if (k == 0) {
-        EXPECT_EQ(sa.pair_list_reused, 1u) << "the list searched ahead was not taken";
+        EXPECT_EQ(sa.pair_list_reused, 1u) << (three ? "the kept list did not serve" : "the list searched ahead was not taken");
         EXPECT_EQ(sb.pair_list_reused, 1u);
+        if (three) {
+          EXPECT_EQ(sa.pair_list_ahead_finished, 1u);
+          EXPECT_EQ(sb.pair_list_ahead_finished, 1u);
+        }
       }
       ASSERT_EQ(sa.pair_list_reused, sb.pair_list_reused) << "tick " << sa.tick;
       ASSERT_EQ(sa.pair_list_searched_ahead, sb.pair_list_searched_ahead) << "tick " << sa.tick;
+      ASSERT_EQ(sa.pair_list_ahead_finished, sb.pair_list_ahead_finished) << "tick " << sa.tick;
       ASSERT_EQ(a.world.state_hash(), b.world.state_hash()) << "tick " << sa.tick;
-      ahead += static_cast<int>(sa.pair_list_searched_ahead);
-      whole += sa.pair_list_reused == 0 && impl.list.valid ? 1 : 0;
+      count(sa);
     }
     t += 60;
   }
-  EXPECT_TRUE(compared) << "no step searched ahead";
-  EXPECT_GT(ahead, 3 * whole) << ahead << " lists searched ahead, " << whole << " in a tick of their own";
+  EXPECT_TRUE(compared_begun) << "no step began a search in three parts";
+  EXPECT_TRUE(compared_finished) << "no step finished one";
+  EXPECT_GT(begun3, 2 * begun2) << begun3 << " begun in three parts, " << begun2 << " in two";
+  EXPECT_GT(begun3 + begun2, 3 * whole) << begun3 + begun2 << " lists searched ahead, " << whole << " in a tick of their own";
 }
 
-// Anything that drops a list between the step that searched ahead and the next drops the search
-// begun too: the next step searches afresh where the bodies are, as a restored twin does. A change
-// of weight keeps it, and the finished list takes the new shares, as the twin's whole search does.
+// Anything that drops a list between the parts of a search ahead drops the search begun too: the
+// next step searches afresh where the bodies are, as a restored twin does. A change of weight keeps
+// both, and the finished list takes the new shares, as the twin's whole search does.
 TEST(PairList, ChangeAfterSearchAheadDropsItOrKeepsItAsARestoredTwin) {
   struct Change {
     const char* what;
@@ -381,28 +410,38 @@ TEST(PairList, ChangeAfterSearchAheadDropsItOrKeepsItAsARestoredTwin) {
        }},
   };
   for (const Change& change : changes) {
-    SCOPED_TRACE(change.what);
-    scene::BuiltScene a = crowd("crush", 3000, 0.2);
-    bool found = false;
-    for (int t = 0; t < 200 && !found; ++t) found = step(a).pair_list_searched_ahead != 0 && t > 20;
-    ASSERT_TRUE(found);
-    std::vector<std::uint8_t> saved;
-    a.world.save_state(saved);
-    scene::BuiltScene b = crowd("crush", 3000, 0.2);
-    b.world.restore_state(saved);
-    change.apply(a.world);
-    change.apply(b.world);
-    ASSERT_EQ(a.world.state_hash(), b.world.state_hash());
-    // (The bodies keep their desired velocities from here: the driver steers by id.)
-    for (int t = 0; t < 30; ++t) {
-      const StepStats sa = a.world.step();
-      const StepStats sb = b.world.step();
-      if (t == 0) {
-        EXPECT_EQ(sa.pair_list_reused, change.keeps ? 1u : 0u);
+    // After the step that began a search in three parts (the kept list serves one more step), and
+    // after the step that finished its scan (the list searched is the next step's).
+    for (const bool finished : {false, true}) {
+      SCOPED_TRACE(change.what);
+      SCOPED_TRACE(finished ? "after the scan was finished" : "after the search was begun");
+      scene::BuiltScene a = crowd("crush", 3000, 0.2);
+      bool found = false;
+      for (int t = 0; t < 200 && !found; ++t) {
+        const StepStats& st = step(a);
+        const bool begun = st.pair_list_searched_ahead != 0 && WorldProbe::impl(a.world).list.ahead_begun;
+        found = t > 20 && (finished ? st.pair_list_ahead_finished != 0 : begun);
       }
-      ASSERT_EQ(sa.pair_list_reused, sb.pair_list_reused) << "tick " << sa.tick;
-      ASSERT_EQ(sa.pair_list_searched_ahead, sb.pair_list_searched_ahead) << "tick " << sa.tick;
-      ASSERT_EQ(a.world.state_hash(), b.world.state_hash()) << "tick " << sa.tick;
+      ASSERT_TRUE(found);
+      std::vector<std::uint8_t> saved;
+      a.world.save_state(saved);
+      scene::BuiltScene b = crowd("crush", 3000, 0.2);
+      b.world.restore_state(saved);
+      change.apply(a.world);
+      change.apply(b.world);
+      ASSERT_EQ(a.world.state_hash(), b.world.state_hash());
+      // (The bodies keep their desired velocities from here: the driver steers by id.)
+      for (int t = 0; t < 30; ++t) {
+        const StepStats sa = a.world.step();
+        const StepStats sb = b.world.step();
+        if (t == 0) {
+          EXPECT_EQ(sa.pair_list_reused, change.keeps ? 1u : 0u);
+        }
+        ASSERT_EQ(sa.pair_list_reused, sb.pair_list_reused) << "tick " << sa.tick;
+        ASSERT_EQ(sa.pair_list_searched_ahead, sb.pair_list_searched_ahead) << "tick " << sa.tick;
+        ASSERT_EQ(sa.pair_list_ahead_finished, sb.pair_list_ahead_finished) << "tick " << sa.tick;
+        ASSERT_EQ(a.world.state_hash(), b.world.state_hash()) << "tick " << sa.tick;
+      }
     }
   }
 }

@@ -170,18 +170,18 @@ TEST(WorldCheckpoint, VersionTwoWithItsIdColumnStillRestores) {
     steer_in(a.world);
     a.world.step();
   }
-  Bytes v3;
-  a.world.save_state(v3);
-  const WorldLayout l = world_layout(v3);
+  Bytes now;
+  a.world.save_state(now);
+  const WorldLayout l = world_layout(now);
   std::uint32_t version = 0;
-  std::memcpy(&version, v3.data() + 4, 4);
-  ASSERT_EQ(version, 3u);
+  std::memcpy(&version, now.data() + 4, 4);
+  ASSERT_EQ(version, 4u);  // this build's (4 differs from 3 only in the pair list's kept byte)
   // 13 f64 columns (x .. hh) and grounded, each with its u32 count; the ids follow grounded.
   // The body columns, each a u32 count then n values: 13 f64 (x .. hh), grounded (u8), [version 2:
   // the ids], resistance (f64), rule_lhs, rule_rhs, group, mask (u32), coeff_dirty, morale_level,
-  // warm_count (u8). Version 3 writes f64 columns as eight byte planes, version 2 value by value.
+  // warm_count (u8). Versions 3 and 4 write f64 columns as eight byte planes, version 2 value by value.
   const std::size_t n = l.n;
-  Bytes v2(v3.begin(), v3.begin() + static_cast<std::ptrdiff_t>(l.columns));
+  Bytes v2(now.begin(), now.begin() + static_cast<std::ptrdiff_t>(l.columns));
   v2[4] = 2;
   const auto put_u32 = [&v2](std::uint32_t v) {
     const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
@@ -195,33 +195,33 @@ TEST(WorldCheckpoint, VersionTwoWithItsIdColumnStillRestores) {
       for (std::size_t d = 0; d < n; ++d) put_u32(a.world.id_at(d).value);
       continue;
     }
-    v2.insert(v2.begin() + static_cast<std::ptrdiff_t>(v2.size()), v3.begin() + static_cast<std::ptrdiff_t>(at),
-              v3.begin() + static_cast<std::ptrdiff_t>(at + 4));
+    v2.insert(v2.begin() + static_cast<std::ptrdiff_t>(v2.size()), now.begin() + static_cast<std::ptrdiff_t>(at),
+              now.begin() + static_cast<std::ptrdiff_t>(at + 4));
     at += 4;
     for (std::size_t i = 0; i < n; ++i) {
-      for (std::size_t k = 0; k < size; ++k) v2.push_back(size == 8 ? v3[at + k * n + i] : v3[at + i * size + k]);
+      for (std::size_t k = 0; k < size; ++k) v2.push_back(size == 8 ? now[at + k * n + i] : now[at + i * size + k]);
     }
     at += n * size;
   }
   // Then the warm entries (a u32 total, 12 bytes each), the body parameter records (116 bytes in
-  // version 3, 120 with the object id in front in version 2) and the rest as it is.
+  // versions 3 and 4, 120 with the object id in front in version 2) and the rest as it is.
   std::uint32_t warm_total = 0;
-  std::memcpy(&warm_total, v3.data() + at, 4);
+  std::memcpy(&warm_total, now.data() + at, 4);
   const std::size_t params_at = at + 4 + 12 * std::size_t{warm_total};
-  v2.insert(v2.end(), v3.begin() + static_cast<std::ptrdiff_t>(at), v3.begin() + static_cast<std::ptrdiff_t>(params_at));
+  v2.insert(v2.end(), now.begin() + static_cast<std::ptrdiff_t>(at), now.begin() + static_cast<std::ptrdiff_t>(params_at));
   for (std::size_t d = 0; d < n; ++d) {
     put_u32(a.world.id_at(d).value);
-    const auto rec = v3.begin() + static_cast<std::ptrdiff_t>(params_at + 116 * d);
+    const auto rec = now.begin() + static_cast<std::ptrdiff_t>(params_at + 116 * d);
     v2.insert(v2.end(), rec, rec + 116);
   }
-  v2.insert(v2.end(), v3.begin() + static_cast<std::ptrdiff_t>(params_at + 116 * n), v3.end());
-  ASSERT_EQ(v2.size(), v3.size() + 4 + 8 * n);  // the id column (count and ids) and the records' ids
+  v2.insert(v2.end(), now.begin() + static_cast<std::ptrdiff_t>(params_at + 116 * n), now.end());
+  ASSERT_EQ(v2.size(), now.size() + 4 + 8 * n);  // the id column (count and ids) and the records' ids
 
   scene::BuiltScene b = scene::build_scene(def);
   b.world.restore_state(v2);
   Bytes again;
   b.world.save_state(again);
-  EXPECT_EQ(again, v3);
+  EXPECT_EQ(again, now);
   EXPECT_EQ(b.world.state_hash(), a.world.state_hash());
   for (std::size_t d = 0; d < l.n; ++d) {
     ASSERT_EQ(b.world.id_at(d), a.world.id_at(d)) << d;
@@ -236,15 +236,15 @@ TEST(WorldCheckpoint, VersionTwoWithItsIdColumnStillRestores) {
     ASSERT_EQ(a.world.state_hash(), b.world.state_hash()) << "tick " << a.world.tick();
   }
 
-  // Version 3's slots must name every body exactly once: two slots referring to one dense index
+  // Version 3's and 4's slots must name every body exactly once: two slots referring to one dense index
   // leave another unnamed.
   std::vector<std::uint32_t> body_slots;
   for (std::uint32_t sl = 0; sl < l.ns && body_slots.size() < 2; ++sl) {
-    if (v3[l.kinds + sl] == 1) body_slots.push_back(sl);
+    if (now[l.kinds + sl] == 1) body_slots.push_back(sl);
   }
   ASSERT_EQ(body_slots.size(), 2u);
-  Bytes bad = v3;
-  std::memcpy(bad.data() + l.refs + 4 * body_slots[1], v3.data() + l.refs + 4 * body_slots[0], 4);
+  Bytes bad = now;
+  std::memcpy(bad.data() + l.refs + 4 * body_slots[1], now.data() + l.refs + 4 * body_slots[0], 4);
   scene::BuiltScene c = scene::build_scene(def);
   try {
     c.world.restore_state(bad);
@@ -253,10 +253,10 @@ TEST(WorldCheckpoint, VersionTwoWithItsIdColumnStillRestores) {
     EXPECT_NE(std::string(e.what()).find("does not match its slot"), std::string::npos) << e.what();
   }
   // A free slot made a body slot: one body slot more than bodies.
-  bad = v3;
+  bad = now;
   std::uint32_t free_slot = l.ns;
   for (std::uint32_t sl = 0; sl < l.ns; ++sl) {
-    if (v3[l.kinds + sl] == 0) free_slot = sl;
+    if (now[l.kinds + sl] == 0) free_slot = sl;
   }
   ASSERT_LT(free_slot, l.ns);
   bad[l.kinds + free_slot] = 1;
@@ -266,6 +266,63 @@ TEST(WorldCheckpoint, VersionTwoWithItsIdColumnStillRestores) {
   } catch (const CheckpointError& e) {
     EXPECT_NE(std::string(e.what()).find("body slots for"), std::string::npos) << e.what();
   }
+}
+
+// Version 4 only added the pair list's kept byte 2 (the next list's search begun in three parts,
+// world_pair_list.cpp): a version-3 checkpoint is a version-4 one that never says 2. This build
+// restores one bit-identically, and refuses a 2 under version 3 and a 3 under any version.
+TEST(WorldCheckpoint, VersionThreeStillRestoresAndCannotSayASearchWasBegun) {
+  const scene::SceneDef def = scene::scale_scene(scene::builtin_scene("crush"), 3000);
+  scene::BuiltScene a = scene::build_scene(def);
+  // The kept byte sits before the list's three position arrays (u32 count, then n f64) at the end.
+  const std::size_t n = a.world.body_count();
+  const auto kept_at = [n](const Bytes& b) { return b.size() - 3 * (4 + 8 * n) - 1; };
+  Bytes kept, begun;
+  for (int t = 0; t < 200 && (kept.empty() || begun.empty()); ++t) {
+    a.driver.apply(a.world);
+    const StepStats st = a.world.step();
+    Bytes saved;
+    a.world.save_state(saved);
+    if (st.pair_list_reused == 0 || saved.size() < 3 * (4 + 8 * n) + 1) continue;
+    const std::uint8_t byte = saved[kept_at(saved)];
+    if (byte == 1 && st.pair_list_searched_ahead == 0 && kept.empty()) kept = saved;
+    if (byte == 2 && st.pair_list_searched_ahead != 0 && begun.empty()) begun = saved;
+  }
+  ASSERT_FALSE(kept.empty()) << "no kept list";
+  ASSERT_FALSE(begun.empty()) << "no search begun in three parts";
+
+  Bytes v3 = kept;
+  v3[4] = 3;
+  scene::BuiltScene b = scene::build_scene(def);
+  scene::BuiltScene c = scene::build_scene(def);
+  b.world.restore_state(v3);
+  c.world.restore_state(kept);
+  EXPECT_EQ(b.world.state_hash(), c.world.state_hash());
+  for (int t = 0; t < 20; ++t) {
+    steer_in(b.world);
+    steer_in(c.world);
+    b.world.step();
+    c.world.step();
+    ASSERT_EQ(b.world.state_hash(), c.world.state_hash()) << "tick " << b.world.tick();
+  }
+
+  const auto refused = [&](Bytes bad, const char* what) {
+    scene::BuiltScene d = scene::build_scene(def);
+    const std::uint64_t before = d.world.state_hash();
+    try {
+      d.world.restore_state(bad);
+      ADD_FAILURE() << what << " was accepted";
+    } catch (const CheckpointError& e) {
+      EXPECT_NE(std::string(e.what()).find("pair list kept"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(d.world.state_hash(), before) << what << " changed the world";
+  };
+  Bytes bad = begun;
+  bad[4] = 3;
+  refused(bad, "a search begun under version 3");
+  bad = begun;
+  bad[kept_at(bad)] = 3;
+  refused(bad, "kept byte 3");
 }
 
 // A checkpoint carries a hash of the world's settings (and scenery) and a restore refuses another

@@ -14,7 +14,8 @@
 // scratch, `dyn` (recomputed from the policy: restore forces it), the scenery cells (rebuilt from
 // the saved reach) and StepStats/push_events (describe the last step only; empty after restore).
 // The kept pair list is saved as where it was searched (world_pair_list.cpp says why that is
-// enough).
+// enough), and whether the next list's search was begun in three parts (its positions follow from
+// the saved bodies; its grid, next_grid, is scratch the restored world builds when it finishes).
 // Not saved because it is configuration, checked by the config hash instead: WorldSettings other
 // than iterations, the scenery shapes, the parameter table.
 #include <cmath>
@@ -176,7 +177,8 @@ void World::Impl::save_state(ByteWriter& w) const {
   w.put(list.cooldown);
   w.put(list.backoff);
   const ListRecord record = list_record();
-  w.put(static_cast<std::uint8_t>(record != ListRecord::kNone ? 1 : 0));
+  // 2: and the step after the saved one finishes the next list's search (list.ahead_begun).
+  w.put(static_cast<std::uint8_t>(record == ListRecord::kNone ? 0 : list.ahead_begun ? 2 : 1));
   if (record == ListRecord::kKept) {
     for (const std::vector<double>* col : {&list.x, &list.y, &list.z}) {
       w.put(static_cast<std::uint32_t>(n));
@@ -336,7 +338,10 @@ WorldState decode_world_state(ByteReader& r) {
     r.fail("pair list cooldown " + std::to_string(st.pair_list_cooldown) + " / backoff " +
            std::to_string(st.pair_list_backoff) + " out of range");
   }
-  st.pair_list_kept = r.get_bool("pair list kept");
+  const auto kept = r.get<std::uint8_t>("pair list kept");
+  if (kept > (version >= 4 ? 2 : 1)) r.fail("pair list kept " + std::to_string(kept) + " is not a known value");
+  st.pair_list_kept = kept != 0;
+  st.pair_list_ahead_begun = kept == 2;
   if (st.pair_list_kept) {
     for (std::vector<double>* col : {&st.pair_list_x, &st.pair_list_y, &st.pair_list_z}) {
       r.get_array_exact(*col, "pair list positions", n);
@@ -422,6 +427,10 @@ void World::Impl::apply_state(detail::WorldState&& st) {
   list.restored_x = std::move(st.pair_list_x);
   list.restored_y = std::move(st.pair_list_y);
   list.restored_z = std::move(st.pair_list_z);
+  list.scan_complete = false;
+  list.ahead_built = false;
+  list.ahead_begun = st.pair_list_ahead_begun;
+  if (list.ahead_begun) predict_begun_ahead();  // where the saved world began it, from the same state
   body_params = std::move(st.body_params);
   params_order.clear();
   cameras = std::move(st.cameras);

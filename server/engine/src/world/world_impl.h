@@ -125,6 +125,14 @@ struct World::Impl {
   bool cell0_dirty = true;
   double median_radius_m = 0.5;
   std::vector<std::uint32_t> sgroup, smask;  // collision filter in solver order
+  // The next pair list's fine grid and the columns its search reads, in its order, built while the
+  // kept list still serves a step (search_ahead_begin); they become `grid`, sb's and sgroup/smask's
+  // when the kept list ends (search_ahead_finish), by swapping.
+  struct AheadGrid {
+    detail::HierGrid grid;
+    std::vector<double> x, y, z, r, hh;
+    std::vector<std::uint32_t> group, mask;
+  } next_grid;
 
   // Pile relief (pile_relief.cpp).
   static constexpr std::uint32_t kPileThreshold = 32;
@@ -189,10 +197,22 @@ struct World::Impl {
     // there, and `found` holds the first part of the search; the next step's search there only
     // finishes it.
     bool searched_ahead = false;
-    std::uint32_t ahead_capped = 0;  // bodies the first part capped
+    std::uint32_t ahead_capped = 0;  // bodies the parts scanned so far capped
+    bool scan_complete = false;      // search_ahead_finish scanned it all: the next step sets it up
+    // Begun a step earlier (search_ahead_begin): the step that forecast the kept list outrun at the
+    // step after next began the next list's search on a grid and columns of its own (`next_grid`), so
+    // that the kept list still serves the next step; the next step's end finishes the scan
+    // (search_ahead_finish) and records the list as above. ahead_begun is what a checkpoint and
+    // the state hash hold of it: ahead_x, ahead_y, ahead_z (dense order) follow from the bodies'
+    // positions and velocities at the step's end, and a restored world computes them there and
+    // builds the grid when it finishes (ahead_built false).
+    bool ahead_begun = false;
+    bool ahead_built = false;  // the grid is built at ahead_x... and its first part scanned
+    std::vector<double> ahead_x, ahead_y, ahead_z;
     // This step's forecast of the next step's check: the two largest displacements since the list's
     // search if every body went on at its last tick's velocity, summed (0 if the step checked none).
     double moved_next = 0.0;
+    double moved_next2 = 0.0;  // the same for the check of the step after next
     bool fresh = false;  // searched this tick: the pushes are still to be looked up in the cache
     bool all_fast = false;  // every entry is between grounded bodies (no scenery: no planes either)
     std::size_t live = 0;   // entries taken this tick: of_pair[0, live)
@@ -206,6 +226,9 @@ struct World::Impl {
       valid = false;
       restore_pending = false;
       searched_ahead = false;
+      scan_complete = false;
+      ahead_begun = false;
+      ahead_built = false;
     }
     // A list that did not pay: the next `backoff` ticks search without one, and the next such
     // cooldown is twice as long.
@@ -263,10 +286,16 @@ struct World::Impl {
   void schedule_list_pairs(double conflict);
   void pairs_from_list(bool gathered);  // gathered: sb already holds the bodies' positions
   bool moved_within_skin(bool restored);
-  bool search_ahead_due();
+  // ticks: 1 forecasts the next step's check, 2 the check of the step after.
+  bool search_ahead_due(int ticks);
   bool reorder_due(bool searching_ahead) const;
   bool surely_no_search_work(bool searching_ahead) const;
   void search_ahead();
+  void search_ahead_begin();
+  void predict_begun_ahead();  // list.ahead_x... for a search_ahead_begin at this state
+  void search_ahead_finish();
+  void predict_ahead(double lead_ticks, std::vector<double>& x, std::vector<double>& y, std::vector<double>& z);
+  void build_ahead();
   bool relieve_piles();
   void build_scenery_planes();
   // apply_warm_start: false for the second solve of a tick, whose bodies already carry the pushes.

@@ -23,9 +23,12 @@
 // cache, and continues bit-identically.
 //
 // Searched ahead: a list about to be outrun is replaced by one searched where the step's final
-// positions and velocities place the bodies a little ahead, begun at the end of that step and
-// finished by the next (search_ahead), so that no single tick pays for the whole search. Between
-// the two it is recorded as a restored world's list.
+// positions and velocities place the bodies a little ahead, so that no single tick pays for the
+// whole search. Usually in three parts: begun at the end of the step that foresees the kept list
+// outrun two steps on (search_ahead_begin, on a grid of its own while the kept list serves one more
+// step), its scan finished at the end of the next (search_ahead_finish), set up by the step after.
+// In two when the next step's check already would find it outrun (search_ahead). Once the kept list
+// has ended, the next one is recorded as a restored world's list.
 //
 // Only where a kept list is exact and cheap: no fixed scenery (bodies against scenery get general
 // pairs and planes decided per tick), shares from the two resistances alone, warm start on. A list
@@ -58,6 +61,12 @@ constexpr double kAheadScanShare = 0.7;
 // its own (docs/design/solver.md).
 constexpr double kAheadLeadTicks = 2.0;
 
+// The share of the bodies whose cells search_ahead_begin scans, a step before the list's other
+// parts: that step also predicts the positions, builds the grid and gathers its columns, and the
+// step that finishes the scan only swaps them in, so it scans the larger part. The list's own
+// step still sets the entries up and looks their pushes up.
+constexpr double kBeginScanShare = 0.35;
+
 // The two largest squared displacements from (x0, y0, z0)[s] to (x, y, z)[index[s]] (or [s] when
 // index is null) over bodies [begin, end), folded into (first, second). Squared because the square
 // root is monotonic: the two largest roots are the roots of these two, taken once at the end
@@ -77,11 +86,12 @@ struct TopTwo {
 };
 
 // Also folds into `next` the displacements the next step's check would find if every body went on
-// at its last tick's horizontal velocity (ax, ay over dt): search_ahead_due's forecast.
+// at its last tick's horizontal velocity (ax, ay over dt), and into `next2` those of the check after
+// it: search_ahead_due's forecasts.
 void fold_displacements(std::size_t begin, std::size_t end, const double* x, const double* y, const double* z,
                         const std::uint32_t* index, const double* x0, const double* y0, const double* z0,
                         const double* ax, const double* ay, double dt, detail::SolverBodies* out, TopTwo& top,
-                        TopTwo& next) {
+                        TopTwo& next, TopTwo& next2) {
   for (std::size_t s = begin; s < end; ++s) {
     const std::size_t i = index != nullptr ? index[s] : s;
     if (out != nullptr) {
@@ -91,8 +101,11 @@ void fold_displacements(std::size_t begin, std::size_t end, const double* x, con
     }
     const double dx = x[i] - x0[s], dy = y[i] - y0[s], dz = z[i] - z0[s];
     top.add(dx * dx + dy * dy + dz * dz);
-    const double nx = dx + ax[i] * dt, ny = dy + ay[i] * dt;
+    const double mx = ax[i] * dt, my = ay[i] * dt;
+    const double nx = dx + mx, ny = dy + my;
     next.add(nx * nx + ny * ny + dz * dz);
+    const double fx = nx + mx, fy = ny + my;
+    next2.add(fx * fx + fy * fy + dz * dz);
   }
 }
 
@@ -124,6 +137,7 @@ bool World::Impl::pair_list_eligible() const {
 
 void World::Impl::find_pairs() {
   list.moved_next = 0.0;
+  list.moved_next2 = 0.0;
   if (!pair_list_eligible()) {
     list.drop();
     build_pairs();
@@ -157,6 +171,10 @@ void World::Impl::find_pairs() {
     if (list.kept_ticks < PairList::kMinKeptTicks) list.back_off();
     else list.backoff = PairList::kCooldownTicks;
     list.valid = false;
+    // A search begun for the step after this one is dropped with the list it was to follow (a
+    // restored world drops it the same way: it checks the same displacements).
+    list.ahead_begun = false;
+    list.ahead_built = false;
   }
   if (list.cooldown > 0) {
     --list.cooldown;
@@ -183,12 +201,12 @@ void World::Impl::find_pairs() {
 // Why per body: a list searched ahead of the bodies sees their displacements shrink before they
 // grow, so the check's sum does not grow at a pace that can be read from its value; each body's
 // own forecast can.
-bool World::Impl::search_ahead_due() {
+bool World::Impl::search_ahead_due(int ticks) {
   if (list_record() != ListRecord::kKept || list.cooldown > 0 || list.kept_ticks < PairList::kMinKeptTicks ||
-      !pair_list_eligible()) {
+      !pair_list_eligible() || list.ahead_begun) {
     return false;
   }
-  return list.moved_next > pair_list_skin() - 1e-6;
+  return (ticks == 1 ? list.moved_next : list.moved_next2) > pair_list_skin() - 1e-6;
 }
 
 // Why: a tick that searches the list costs about twice a tick that keeps it, and one tick in four
@@ -207,19 +225,8 @@ void World::Impl::search_ahead() {
   l.valid = false;
   l.kept_ticks = 0;
   l.restore_pending = true;
-  const std::size_t n = bodies.size();
-  l.restored_x.resize(n);
-  l.restored_y.resize(n);
-  l.restored_z.assign(bodies.z.begin(), bodies.z.end());
-  // Heights stay as they are (a list's pairs of grounded bodies cannot change height, and the
-  // forecast leaves vertical motion out too). The lead is clamped per axis to the skin: a body that
-  // fast moves more than half the skin a tick, so a longer lead would not make its lists last; the
-  // clamp also keeps a finite position finite for any finite velocity.
-  const double lead = kAheadLeadTicks * settings.dt_s, skin = pair_list_skin();
-  for (std::size_t i = 0; i < n; ++i) {
-    l.restored_x[i] = bodies.x[i] + std::clamp(bodies.ax[i] * lead, -skin, skin);
-    l.restored_y[i] = bodies.y[i] + std::clamp(bodies.ay[i] * lead, -skin, skin);
-  }
+  l.scan_complete = false;
+  predict_ahead(kAheadLeadTicks, l.restored_x, l.restored_y, l.restored_z);
   // As a restored world's search builds it: at the saved positions, never relieving a pile.
   fine_grid(l.restored_x.data(), l.restored_y.data(), l.restored_z.data(), false);
   l.found.clear();
@@ -227,6 +234,112 @@ void World::Impl::search_ahead() {
                                   sgroup.data(), smask.data()};
   l.ahead_capped = grid.find_pairs(view, settings.contact_margin_m + pair_list_skin(), settings.max_candidates_per_body,
                                    l.found, pool.get(), detail::HierGrid::SearchPart::kFirst, kAheadScanShare);
+  l.searched_ahead = true;
+}
+
+// Where the next list is searched: each body where its last tick's horizontal velocity carries it in
+// lead_ticks (dense order). Heights stay as they are (a list's pairs of grounded bodies cannot
+// change height, and the forecast leaves vertical motion out too). The lead is clamped per axis to
+// the skin: a body that fast moves more than half the skin a tick, so a longer lead would not make
+// its lists last; the clamp also keeps a finite position finite for any finite velocity.
+void World::Impl::predict_ahead(double lead_ticks, std::vector<double>& x, std::vector<double>& y,
+                                std::vector<double>& z) {
+  const std::size_t n = bodies.size();
+  x.resize(n);
+  y.resize(n);
+  z.assign(bodies.z.begin(), bodies.z.end());
+  const double lead = lead_ticks * settings.dt_s, skin = pair_list_skin();
+  for (std::size_t i = 0; i < n; ++i) {
+    x[i] = bodies.x[i] + std::clamp(bodies.ax[i] * lead, -skin, skin);
+    y[i] = bodies.y[i] + std::clamp(bodies.ay[i] * lead, -skin, skin);
+  }
+}
+
+// Why a search in three parts: searched ahead in two, each part still cost about half a kept tick
+// more than a kept tick, and those ticks made the tail. Begun a step earlier, the search's grid is
+// built on columns of its own while the kept list serves one more step, so its work falls on three
+// ticks. The next list is placed where the bodies go a step further (it is first used a step
+// later), and begun when the check of the step after next would find the kept list outrun.
+// Nothing of it but ahead_begun is state: the positions follow from the bodies', and the list's
+// entries from the positions.
+void World::Impl::search_ahead_begin() {
+  list.ahead_begun = true;
+  predict_begun_ahead();
+  build_ahead();
+}
+
+void World::Impl::predict_begun_ahead() {
+  predict_ahead(kAheadLeadTicks + 1.0, list.ahead_x, list.ahead_y, list.ahead_z);
+}
+
+// The next list's fine grid at ahead_x, ahead_y, ahead_z, the columns its search reads gathered in
+// its order, and the first part of its scan into `found` (which the kept list does not use).
+void World::Impl::build_ahead() {
+  PairList& l = list;
+  AheadGrid& g = next_grid;
+  const std::size_t n = bodies.size();
+  const double margin = settings.contact_margin_m;
+  g.grid.build(l.ahead_x.data(), l.ahead_y.data(), bodies.r.data(), n, margin, cell0_size(margin));
+  const std::vector<std::uint32_t>& order = g.grid.order();
+  g.x.resize(n); g.y.resize(n); g.z.resize(n); g.r.resize(n); g.hh.resize(n);
+  g.group.resize(n); g.mask.resize(n);
+  for_body_ranges(n, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t s = begin; s < end; ++s) {
+      const std::uint32_t i = order[s];
+      g.x[s] = l.ahead_x[i]; g.y[s] = l.ahead_y[i]; g.z[s] = l.ahead_z[i];
+      g.r[s] = bodies.r[i]; g.hh[s] = bodies.hh[i];
+      g.group[s] = bodies.group[i];
+      g.mask[s] = bodies.mask[i];
+    }
+  });
+  const detail::GridBodyView view{g.x.data(), g.y.data(), g.z.data(), g.r.data(), g.hh.data(), g.group.data(),
+                                  g.mask.data()};
+  l.found.clear();
+  l.ahead_capped = g.grid.find_pairs(view, margin + pair_list_skin(), settings.max_candidates_per_body, l.found,
+                                     pool.get(), detail::HierGrid::SearchPart::kFirst, kBeginScanShare);
+  l.ahead_built = true;
+}
+
+// The end of the step after search_ahead_begin: the kept list has served its last step. Its
+// successor's grid and columns become the world's, the scan is finished, and the list is recorded
+// as search_ahead records it, so the next step only sets its entries up and takes its pairs. A
+// restored world that has not built the grid (ahead_built) builds it here: the list depends on the
+// positions only.
+void World::Impl::search_ahead_finish() {
+  PairList& l = list;
+  if (!l.ahead_built) build_ahead();
+  l.backoff = PairList::kCooldownTicks;
+  l.valid = false;
+  l.kept_ticks = 0;
+  l.restore_pending = true;
+  l.ahead_begun = false;
+  l.ahead_built = false;
+  std::swap(l.restored_x, l.ahead_x);
+  std::swap(l.restored_y, l.ahead_y);
+  std::swap(l.restored_z, l.ahead_z);
+  const std::size_t n = bodies.size();
+  AheadGrid& g = next_grid;
+  std::swap(grid, g.grid);
+  grid_cell0 = cell0_size(settings.contact_margin_m);
+  solver_order = grid.order();
+  sb.resize(n);
+  std::swap(sb.x, g.x); std::swap(sb.y, g.y); std::swap(sb.z, g.z);
+  std::swap(sb.r, g.r); std::swap(sb.hh, g.hh);
+  std::swap(sgroup, g.group);
+  std::swap(smask, g.mask);
+  for_body_ranges(n, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t s = begin; s < end; ++s) {
+      const std::uint32_t i = solver_order[s];
+      sb.grounded[s] = bodies.grounded[i];
+      sb.id[s] = bodies.id[i].value;
+    }
+  });
+  const detail::GridBodyView view{sb.x.data(), sb.y.data(), sb.z.data(), sb.r.data(), sb.hh.data(),
+                                  sgroup.data(), smask.data()};
+  l.ahead_capped += grid.find_pairs(view, settings.contact_margin_m + pair_list_skin(),
+                                    settings.max_candidates_per_body, l.found, pool.get(),
+                                    detail::HierGrid::SearchPart::kRest);
+  l.scan_complete = true;
   l.searched_ahead = true;
 }
 
@@ -244,27 +357,33 @@ bool World::Impl::moved_within_skin(bool restored) {
   const double* z0 = restored ? list.restored_z.data() : list.z.data();
   detail::SolverBodies* out = restored ? nullptr : &sb;
   const std::size_t tasks = (n + kBodiesPerTask - 1) / kBodiesPerTask;
-  list.range_top.resize(4 * tasks);
+  list.range_top.resize(6 * tasks);
   const double* ax = bodies.ax.data();
   const double* ay = bodies.ay.data();
   const double dt = settings.dt_s;
   for_body_ranges(n, [&](std::size_t begin, std::size_t end) {
-    TopTwo top, next;
-    fold_displacements(begin, end, x, y, z, index, x0, y0, z0, ax, ay, dt, out, top, next);
-    double* range = &list.range_top[4 * (begin / kBodiesPerTask)];
+    TopTwo top, next, next2;
+    fold_displacements(begin, end, x, y, z, index, x0, y0, z0, ax, ay, dt, out, top, next, next2);
+    double* range = &list.range_top[6 * (begin / kBodiesPerTask)];
     range[0] = top.first;
     range[1] = top.second;
     range[2] = next.first;
     range[3] = next.second;
+    range[4] = next2.first;
+    range[5] = next2.second;
   });
-  TopTwo all, all_next;
+  TopTwo all, all_next, all_next2;
   for (std::size_t t = 0; t < tasks; ++t) {
-    all.add(list.range_top[4 * t]);
-    all.add(list.range_top[4 * t + 1]);
-    all_next.add(list.range_top[4 * t + 2]);
-    all_next.add(list.range_top[4 * t + 3]);
+    const double* range = &list.range_top[6 * t];
+    all.add(range[0]);
+    all.add(range[1]);
+    all_next.add(range[2]);
+    all_next.add(range[3]);
+    all_next2.add(range[4]);
+    all_next2.add(range[5]);
   }
   list.moved_next = std::sqrt(all_next.first) + std::sqrt(all_next.second);
+  list.moved_next2 = std::sqrt(all_next2.first) + std::sqrt(all_next2.second);
   return within_skin(std::sqrt(all.first), std::sqrt(all.second), pair_list_skin());
 }
 
@@ -288,8 +407,12 @@ bool World::Impl::search_pair_list(const double* x, const double* y, const doubl
   std::uint32_t capped = 0;
   if (ahead) {
     // search_ahead built the fine grid at these positions and scanned its first part.
-    capped = l.ahead_capped + grid.find_pairs(view(), margin + pair_list_skin(), settings.max_candidates_per_body, l.found,
-                                              pool.get(), detail::HierGrid::SearchPart::kRest);
+    capped = l.ahead_capped;
+    if (!l.scan_complete) {
+      capped += grid.find_pairs(view(), margin + pair_list_skin(), settings.max_candidates_per_body, l.found, pool.get(),
+                                detail::HierGrid::SearchPart::kRest);
+    }
+    l.scan_complete = false;
   } else {
     // The fine grid gives the bodies' order. Pile relief moves the bodies (only ever at their own
     // positions: a kept list's search relieved none, and a search at the same positions again would

@@ -18,7 +18,7 @@ namespace throng::detail {
 inline constexpr std::uint32_t kWorldStateMagic = 0x53574854;  // "THWS" in the file
 // 3: no body id column (the slots' dense references name every body); 2: the kept pair list.
 // This build reads 2 and 3.
-inline constexpr std::uint32_t kWorldStateVersion = 3;
+inline constexpr std::uint32_t kWorldStateVersion = 4;
 inline constexpr std::uint32_t kOldestWorldStateVersion = 2;
 
 // Bounds of the pair list's cooldown (World::Impl::PairList), checked when a checkpoint is read.
@@ -48,6 +48,7 @@ struct WorldState {
   // A kept pair list (World::Impl::PairList): where it was searched, dense order; empty if none.
   std::uint32_t pair_list_kept_ticks = 0, pair_list_cooldown = 0, pair_list_backoff = 0;
   bool pair_list_kept = false;
+  bool pair_list_ahead_begun = false;  // version 4: the next list's search was begun (list.ahead_begun)
   std::vector<double> pair_list_x, pair_list_y, pair_list_z;
 };
 

@@ -83,6 +83,8 @@ Compared compare(const detail::WorldState& A, std::size_t i, const detail::World
   // Where a kept pair list was searched (the list follows from it).
   if (A.pair_list_kept != B.pair_list_kept) {
     add(w, "pair_list_kept", A.pair_list_kept, B.pair_list_kept);
+  } else if (A.pair_list_ahead_begun != B.pair_list_ahead_begun) {
+    add(w, "pair_list_ahead_begun", A.pair_list_ahead_begun, B.pair_list_ahead_begun);
   } else if (A.pair_list_kept) {
     add(w, "pair_list.x", A.pair_list_x[i], B.pair_list_x[j]);
     add(w, "pair_list.y", A.pair_list_y[i], B.pair_list_y[j]);

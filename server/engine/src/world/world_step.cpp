@@ -75,17 +75,26 @@ const StepStats& World::step() {
 
   w.finish_tick();
   w.last_reorder.clear();
-  const bool ahead = w.search_ahead_due();
-  if (w.reorder_due(ahead)) {
+  // The next list's search: finished if the last step began it, else begun in two parts if the
+  // next step's check would find the kept list outrun (search_ahead), else in three if the check
+  // after it would (search_ahead_begin).
+  const bool finish = w.list.ahead_begun;
+  const bool ahead = !finish && w.search_ahead_due(1);
+  const bool begin = !finish && !ahead && w.search_ahead_due(2);
+  const bool searching = finish || ahead || begin;
+  if (w.reorder_due(searching)) {
     w.reorder_dense();
-  } else if (w.surely_no_search_work(ahead)) {
+  } else if (w.surely_no_search_work(searching)) {
     w.settle_params();  // a no-op unless a re-sort left the records in their old order
   }
-  if (ahead) {
+  if (searching) {
     t = Clock::now();
-    w.search_ahead();
+    if (finish) w.search_ahead_finish();
+    else if (ahead) w.search_ahead();
+    else w.search_ahead_begin();
     w.stats.broadphase_us += micros_since(t);
-    w.stats.pair_list_searched_ahead = 1;
+    w.stats.pair_list_searched_ahead = finish ? 0 : 1;
+    w.stats.pair_list_ahead_finished = finish ? 1 : 0;
   }
   w.stats.total_us = micros_since(t0);
   return w.stats;

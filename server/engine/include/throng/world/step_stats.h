@@ -17,10 +17,15 @@ struct StepStats {
   // (WorldSettings::pair_list_skin_m), else 0. The first tick after a restore that carried a kept
   // list reads 1 as the saved world would, though it searched the list again.
   std::uint32_t pair_list_reused = 0;
-  // 1 when this step ended by beginning the next tick's pair list search, the kept list being about
-  // to be outrun (the next tick finishes it and, unless its bodies outran that list too or its
-  // search was capped, reads pair_list_reused = 1).
+  // 1 when this step ended by beginning the next pair list's search, the kept list being about to be
+  // outrun: in two parts when the next tick's check would find it outrun (the next tick finishes
+  // the search and, unless its bodies outran that list too or its search was capped, reads
+  // pair_list_reused = 1), in three when the check after it would (the kept list serves the next
+  // tick, whose end finishes the scan: pair_list_ahead_finished; the tick after takes the list).
   std::uint32_t pair_list_searched_ahead = 0;
+  // 1 when this step ended by finishing the scan of a search the last step began in three parts
+  // (its kept list ended with this step).
+  std::uint32_t pair_list_ahead_finished = 0;
   std::uint32_t scenery_planes = 0;    // body-vs-fixed separating planes built this tick
   std::uint32_t iterations_used = 0;
   std::uint32_t capped_bodies = 0;     // bodies that hit max_candidates_per_body
