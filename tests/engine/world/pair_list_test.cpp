@@ -36,9 +36,10 @@ using detail::WorldProbe;
 using Impl = WorldProbe::Impl;
 using PairSet = std::set<std::pair<std::uint32_t, std::uint32_t>>;
 
-scene::BuiltScene crowd(const char* name, std::uint64_t agents, double skin) {
+scene::BuiltScene crowd(const char* name, std::uint64_t agents, double skin, std::uint32_t threads = 1) {
   scene::SceneDef def = scene::scale_scene(scene::builtin_scene(name), agents);
   def.settings.pair_list_skin_m = skin;
+  def.settings.threads = threads;
   return scene::build_scene(def);
 }
 
@@ -380,6 +381,42 @@ TEST(PairList, ListSearchedAheadRestoresBitIdentically) {
   EXPECT_GT(begun3 + begun2, 3 * whole) << begun3 + begun2 << " lists searched ahead, " << whole << " in a tick of their own";
 }
 
+// Whatever tick boundary a checkpoint is taken at (inside a list, between the parts of a search
+// ahead, right after a whole search), a twin restored from it on another number of threads steps
+// on bit-identically. Over 100 boundaries of a marching crowd.
+TEST(PairList, ARestoreAtEveryTickBoundaryContinuesBitIdentically) {
+  scene::BuiltScene a = crowd("crush", 3000, 0.2);
+  const Impl& impl = WorldProbe::impl(a.world);
+  for (int t = 0; t < 20; ++t) step(a);
+  constexpr int kBoundaries = 100, kFollow = 3;
+  std::vector<std::vector<std::uint8_t>> saves(kBoundaries);
+  std::vector<scene::SceneDriver> drivers;
+  std::vector<std::uint64_t> hashes;
+  int begun3 = 0, finished = 0;
+  for (int t = 0; t < kBoundaries + kFollow; ++t) {
+    if (t < kBoundaries) {
+      a.world.save_state(saves[static_cast<std::size_t>(t)]);
+      drivers.push_back(a.driver);
+    }
+    const StepStats& st = step(a);
+    hashes.push_back(a.world.state_hash());
+    begun3 += st.pair_list_searched_ahead != 0 && impl.list.ahead_begun ? 1 : 0;
+    finished += static_cast<int>(st.pair_list_ahead_finished);
+  }
+  EXPECT_GE(begun3, 5);
+  EXPECT_GE(finished, 5);
+  for (int t = 0; t < kBoundaries; ++t) {
+    scene::BuiltScene b = crowd("crush", 3000, 0.2, 2);
+    b.world.restore_state(saves[static_cast<std::size_t>(t)]);
+    b.driver = drivers[static_cast<std::size_t>(t)];
+    for (int k = 0; k < kFollow; ++k) {
+      step(b);
+      ASSERT_EQ(b.world.state_hash(), hashes[static_cast<std::size_t>(t + k)])
+          << "restored at boundary " << t << ", step " << k + 1 << " after it";
+    }
+  }
+}
+
 // Anything that drops a list between the parts of a search ahead drops the search begun too: the
 // next step searches afresh where the bodies are, as a restored twin does. A change of weight keeps
 // both, and the finished list takes the new shares, as the twin's whole search does.
@@ -436,6 +473,10 @@ TEST(PairList, ChangeAfterSearchAheadDropsItOrKeepsItAsARestoredTwin) {
         const StepStats sb = b.world.step();
         if (t == 0) {
           EXPECT_EQ(sa.pair_list_reused, change.keeps ? 1u : 0u);
+          // Kept after a begin, the step finishes the scan (the twin builds the grid to do so).
+          if (change.keeps && !finished) {
+            EXPECT_EQ(sa.pair_list_ahead_finished, 1u);
+          }
         }
         ASSERT_EQ(sa.pair_list_reused, sb.pair_list_reused) << "tick " << sa.tick;
         ASSERT_EQ(sa.pair_list_searched_ahead, sb.pair_list_searched_ahead) << "tick " << sa.tick;

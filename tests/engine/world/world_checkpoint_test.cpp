@@ -317,6 +317,14 @@ TEST(WorldCheckpoint, VersionThreeStillRestoresAndCannotSayASearchWasBegun) {
     }
     EXPECT_EQ(d.world.state_hash(), before) << what << " changed the world";
   };
+  // The same state without the search begun: the diff names only that, as the world's.
+  Bytes not_begun = begun;
+  not_begun[kept_at(not_begun)] = 1;
+  const std::vector<BodyDifference> d = diff_world_states(begun, not_begun);
+  ASSERT_EQ(d.size(), 1u);
+  EXPECT_EQ(d[0].object_id, 0u);
+  EXPECT_NE(d[0].what.find("pair_list.ahead_begun 1 vs 0"), std::string::npos) << d[0].what;
+
   Bytes bad = begun;
   bad[4] = 3;
   refused(bad, "a search begun under version 3");

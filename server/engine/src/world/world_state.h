@@ -16,8 +16,8 @@
 namespace throng::detail {
 
 inline constexpr std::uint32_t kWorldStateMagic = 0x53574854;  // "THWS" in the file
-// 3: no body id column (the slots' dense references name every body); 2: the kept pair list.
-// This build reads 2 and 3.
+// 4: the pair list's kept byte may say a search was begun (2); 3: no body id column (the slots'
+// dense references name every body); 2: the kept pair list. This build reads 2 to 4.
 inline constexpr std::uint32_t kWorldStateVersion = 4;
 inline constexpr std::uint32_t kOldestWorldStateVersion = 2;
 
