@@ -50,7 +50,7 @@ std::uint64_t World::state_hash() const {
   // (dense order, as a checkpoint holds it) and the cooldown counters.
   const std::size_t n = b.size();
   const World::Impl::ListRecord record = w.list_record();
-  const std::uint8_t list_flag = record == World::Impl::ListRecord::kNone ? 0 : w.list.ahead_begun ? 2 : 1;
+  const std::uint8_t list_flag = w.list_record_byte();
   XXH3_64bits_update(st, &list_flag, 1);
   XXH3_64bits_update(st, &w.list.kept_ticks, sizeof(w.list.kept_ticks));
   XXH3_64bits_update(st, &w.list.cooldown, sizeof(w.list.cooldown));

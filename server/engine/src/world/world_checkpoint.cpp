@@ -177,8 +177,7 @@ void World::Impl::save_state(ByteWriter& w) const {
   w.put(list.cooldown);
   w.put(list.backoff);
   const ListRecord record = list_record();
-  // 2: and the step after the saved one finishes the next list's search (list.ahead_begun).
-  w.put(static_cast<std::uint8_t>(record == ListRecord::kNone ? 0 : list.ahead_begun ? 2 : 1));
+  w.put(list_record_byte());
   if (record == ListRecord::kKept) {
     for (const std::vector<double>* col : {&list.x, &list.y, &list.z}) {
       w.put(static_cast<std::uint32_t>(n));

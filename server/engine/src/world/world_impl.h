@@ -125,6 +125,10 @@ struct World::Impl {
   bool cell0_dirty = true;
   double median_radius_m = 0.5;
   std::vector<std::uint32_t> sgroup, smask;  // collision filter in solver order
+  // What the fine grid's search reads of the solver's bodies.
+  detail::GridBodyView solver_view() const {
+    return {sb.x.data(), sb.y.data(), sb.z.data(), sb.r.data(), sb.hh.data(), sgroup.data(), smask.data()};
+  }
   // The next pair list's fine grid and the columns its search reads, in its order, built while the
   // kept list still serves a step (search_ahead_begin); they become `grid`, sb's and sgroup/smask's
   // when the kept list ends (search_ahead_finish), by swapping.
@@ -230,6 +234,15 @@ struct World::Impl {
       ahead_begun = false;
       ahead_built = false;
     }
+    // The kept list ends to make way for one searched ahead (search_ahead, search_ahead_finish), as
+    // find_pairs ends a list that paid and that motion outran; the next list is recorded as a
+    // restored world's.
+    void end_for_next() {
+      backoff = kCooldownTicks;
+      valid = false;
+      kept_ticks = 0;
+      restore_pending = true;
+    }
     // A list that did not pay: the next `backoff` ticks search without one, and the next such
     // cooldown is twice as long.
     void back_off() {
@@ -241,6 +254,11 @@ struct World::Impl {
   // positions, or the restored ones a world not stepped since its restore will search again.
   enum class ListRecord { kNone, kKept, kPending };
   ListRecord list_record() const;
+  // The byte a checkpoint and the state hash hold for it: 0 none, 1 kept (or to be searched again),
+  // 2 kept and the next list's search begun in three parts (list.ahead_begun).
+  std::uint8_t list_record_byte() const {
+    return list_record() == ListRecord::kNone ? 0 : list.ahead_begun ? 2 : 1;
+  }
 
   // Spatial reordering of the dense arrays (world_step.cpp).
   static constexpr std::uint64_t kReorderPeriodTicks = 16;

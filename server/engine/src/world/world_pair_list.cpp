@@ -203,7 +203,7 @@ void World::Impl::find_pairs() {
 // own forecast can.
 bool World::Impl::search_ahead_due(int ticks) {
   if (list_record() != ListRecord::kKept || list.cooldown > 0 || list.kept_ticks < PairList::kMinKeptTicks ||
-      !pair_list_eligible() || list.ahead_begun) {
+      !pair_list_eligible()) {
     return false;
   }
   return (ticks == 1 ? list.moved_next : list.moved_next2) > pair_list_skin() - 1e-6;
@@ -220,20 +220,15 @@ bool World::Impl::search_ahead_due(int ticks) {
 // checkpoint searches the same list and continues with the same bits.
 void World::Impl::search_ahead() {
   PairList& l = list;
-  // The kept list ends here, as find_pairs ends a list that paid and that motion outran.
-  l.backoff = PairList::kCooldownTicks;
-  l.valid = false;
-  l.kept_ticks = 0;
-  l.restore_pending = true;
+  l.end_for_next();
   l.scan_complete = false;
   predict_ahead(kAheadLeadTicks, l.restored_x, l.restored_y, l.restored_z);
   // As a restored world's search builds it: at the saved positions, never relieving a pile.
   fine_grid(l.restored_x.data(), l.restored_y.data(), l.restored_z.data(), false);
   l.found.clear();
-  const detail::GridBodyView view{sb.x.data(), sb.y.data(), sb.z.data(), sb.r.data(), sb.hh.data(),
-                                  sgroup.data(), smask.data()};
-  l.ahead_capped = grid.find_pairs(view, settings.contact_margin_m + pair_list_skin(), settings.max_candidates_per_body,
-                                   l.found, pool.get(), detail::HierGrid::SearchPart::kFirst, kAheadScanShare);
+  l.ahead_capped = grid.find_pairs(solver_view(), settings.contact_margin_m + pair_list_skin(),
+                                   settings.max_candidates_per_body, l.found, pool.get(),
+                                   detail::HierGrid::SearchPart::kFirst, kAheadScanShare);
   l.searched_ahead = true;
 }
 
@@ -308,10 +303,7 @@ void World::Impl::build_ahead() {
 void World::Impl::search_ahead_finish() {
   PairList& l = list;
   if (!l.ahead_built) build_ahead();
-  l.backoff = PairList::kCooldownTicks;
-  l.valid = false;
-  l.kept_ticks = 0;
-  l.restore_pending = true;
+  l.end_for_next();
   l.ahead_begun = false;
   l.ahead_built = false;
   std::swap(l.restored_x, l.ahead_x);
@@ -334,9 +326,7 @@ void World::Impl::search_ahead_finish() {
       sb.id[s] = bodies.id[i].value;
     }
   });
-  const detail::GridBodyView view{sb.x.data(), sb.y.data(), sb.z.data(), sb.r.data(), sb.hh.data(),
-                                  sgroup.data(), smask.data()};
-  l.ahead_capped += grid.find_pairs(view, settings.contact_margin_m + pair_list_skin(),
+  l.ahead_capped += grid.find_pairs(solver_view(), settings.contact_margin_m + pair_list_skin(),
                                     settings.max_candidates_per_body, l.found, pool.get(),
                                     detail::HierGrid::SearchPart::kRest);
   l.scan_complete = true;
@@ -400,17 +390,14 @@ double World::Impl::pair_list_skin() {
 bool World::Impl::search_pair_list(const double* x, const double* y, const double* z, bool ahead) {
   const double margin = settings.contact_margin_m;
   PairList& l = list;
-  auto view = [&] {
-    return detail::GridBodyView{sb.x.data(), sb.y.data(), sb.z.data(), sb.r.data(), sb.hh.data(),
-                                sgroup.data(), smask.data()};
-  };
   std::uint32_t capped = 0;
   if (ahead) {
-    // search_ahead built the fine grid at these positions and scanned its first part.
+    // search_ahead or search_ahead_finish built the fine grid at these positions and scanned its
+    // first part (search_ahead_finish all of it).
     capped = l.ahead_capped;
     if (!l.scan_complete) {
-      capped += grid.find_pairs(view(), margin + pair_list_skin(), settings.max_candidates_per_body, l.found, pool.get(),
-                                detail::HierGrid::SearchPart::kRest);
+      capped += grid.find_pairs(solver_view(), margin + pair_list_skin(), settings.max_candidates_per_body, l.found,
+                                pool.get(), detail::HierGrid::SearchPart::kRest);
     }
     l.scan_complete = false;
   } else {
@@ -422,7 +409,8 @@ bool World::Impl::search_pair_list(const double* x, const double* y, const doubl
     // The fine grid's own search, two cells out: the pairs come in the order a search with the
     // margin lists them, so this tick's pairs (the entries within the margin) are that search's.
     l.found.clear();
-    capped = grid.find_pairs(view(), margin + pair_list_skin(), settings.max_candidates_per_body, l.found, pool.get());
+    capped =
+        grid.find_pairs(solver_view(), margin + pair_list_skin(), settings.max_candidates_per_body, l.found, pool.get());
   }
   if (capped != 0) {
     if (x != bodies.x.data()) fine_grid(bodies.x.data(), bodies.y.data(), bodies.z.data(), false);

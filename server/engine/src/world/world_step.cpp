@@ -202,10 +202,8 @@ bool World::Impl::fine_grid(const double* x, const double* y, const double* z, b
 
 void World::Impl::search_candidates() {
   candidates.clear();
-  const detail::GridBodyView view{sb.x.data(), sb.y.data(), sb.z.data(), sb.r.data(), sb.hh.data(),
-                                  sgroup.data(), smask.data()};
   stats.capped_bodies =
-      grid.find_pairs(view, settings.contact_margin_m, settings.max_candidates_per_body, candidates, pool.get());
+      grid.find_pairs(solver_view(), settings.contact_margin_m, settings.max_candidates_per_body, candidates, pool.get());
   stats.candidate_pairs = static_cast<std::uint32_t>(candidates.size());
 }
 
