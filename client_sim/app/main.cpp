@@ -64,8 +64,8 @@ int main(int argc, char** argv) {
   app.add_flag("--loopback,!--no-loopback", o.loopback,
                "DDS on 127.0.0.1 only (default) or Fast DDS's default transports and discovery");
   app.add_option("--server", o.server,
-                 "tcp://HOST:PORT: reach a server started with --listen over TCP (no multicast, no UDP)")
-      ->check(protocol::check_tcp_endpoint);
+                 "udp://HOST:PORT or tcp://HOST:PORT: reach a server started with --listen (no multicast; udp:// crosses NAT)")
+      ->check(protocol::check_endpoint);
   app.add_option("--security", o.security_dir,
                  "DDS Security: directory made by throng-pki; the bots authenticate as the bot fleet identity")
       ->check(CLI::ExistingDirectory);
@@ -108,7 +108,7 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 1;  // --help: 0; any usage error: 1
   }
   o.progress = !quiet;
-  if (o.participant_per_client && !o.server.empty()) {
+  if (o.participant_per_client && o.server.rfind("tcp://", 0) == 0) {
     // Fast DDS 2.9 keys a client's TCP connection by its host and process id (a client has no
     // listening port), so one process's participants would share one key at the server, which
     // then delivers to one of them only: none of the bots joined.
@@ -124,7 +124,7 @@ int main(int argc, char** argv) {
   client_sim::FleetOptions fo;
   fo.domain_id = o.domain;
   fo.loopback_only = o.loopback;
-  if (!o.server.empty()) fo.server_tcp = protocol::parse_tcp_endpoint(o.server);
+  if (!o.server.empty()) fo.server_endpoint = protocol::parse_endpoint(o.server);
   fo.participant_per_client = o.participant_per_client;
   if (!o.security_dir.empty()) {
     try {

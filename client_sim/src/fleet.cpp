@@ -84,7 +84,7 @@ struct Fleet::Impl {
     protocol::TransportOptions t;
     t.domain_id = options.domain_id;
     t.loopback_only = options.loopback_only;
-    t.tcp_server = options.server_tcp;
+    t.server_endpoint = options.server_endpoint;
     t.participant_name = name;
     t.security = options.security;
     auto tr = std::make_unique<protocol::ClientTransport>(t);
@@ -206,7 +206,7 @@ bool Fleet::connect() {
     protocol::TransportOptions t;
     t.domain_id = impl_->options.domain_id;
     t.loopback_only = impl_->options.loopback_only;
-    t.tcp_server = impl_->options.server_tcp;
+    t.server_endpoint = impl_->options.server_endpoint;
     t.participant_name = impl_->options.name_prefix + "-probe";
     t.security = impl_->options.security;
     protocol::ClientTransport probe(t);

@@ -112,8 +112,8 @@ int main(int argc, char** argv) {
       ->check(tick_number);
   play_cmd->add_option("--domain", play.domain, "DDS domain id (like throng-server)")->check(CLI::Range(0, 231));
   play_cmd->add_flag("--network", play.network, "Fast DDS's default transports and discovery (default: 127.0.0.1 only)");
-  play_cmd->add_option("--listen", play.listen, "tcp://ADDR:PORT: DDS over TCP only (viewers and bots use --server)")
-      ->check(throng::protocol::check_tcp_endpoint);
+  play_cmd->add_option("--listen", play.listen, "udp://ADDR:PORT or tcp://ADDR:PORT: DDS on that one port only (viewers and bots use --server)")
+      ->check(throng::protocol::check_endpoint);
   play_cmd->add_option("--security", play.security_dir,
                        "DDS Security: directory made by throng-pki; plays as the server identity (DIR/server)")
       ->check(CLI::ExistingDirectory);

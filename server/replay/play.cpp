@@ -112,7 +112,7 @@ int run_play(const PlayOptions& o) {
   try {
     protocol::TransportOptions t{o.domain, !o.network, "throng-replay", std::nullopt};
     if (!o.security_dir.empty()) t.security = protocol::security_files(o.security_dir, protocol::kServerIdentity);
-    if (!o.listen.empty()) t.tcp_listen = protocol::parse_tcp_endpoint(o.listen);
+    if (!o.listen.empty()) t.listen_endpoint = protocol::parse_endpoint(o.listen);
     transport = std::make_unique<protocol::ServerTransport>(t);
   } catch (const std::exception& e) {
     fmt::print(stderr, "throng-replay play: cannot open DDS domain {}: {}\n", o.domain, e.what());

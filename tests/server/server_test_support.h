@@ -137,7 +137,7 @@ inline std::uint16_t free_tcp_port() {
 // A client participant that reaches the server only over TCP, at 127.0.0.1:port.
 inline protocol::TransportOptions tcp_client_options(int domain, std::uint16_t port, const std::string& name) {
   protocol::TransportOptions t{domain, true, name, std::nullopt};
-  t.tcp_server = protocol::TcpEndpoint{"127.0.0.1", port};
+  t.server_endpoint = protocol::NetEndpoint{"127.0.0.1", port};
   return t;
 }
 

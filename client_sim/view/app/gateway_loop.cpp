@@ -133,7 +133,7 @@ class GatewayLoop {
     protocol::TransportOptions t;
     t.domain_id = o_.domain;
     t.loopback_only = o_.loopback;
-    if (!o_.server.empty()) t.tcp_server = protocol::parse_tcp_endpoint(o_.server);
+    if (!o_.server.empty()) t.server_endpoint = protocol::parse_endpoint(o_.server);
     t.participant_name = o_.name;
     if (!o_.security_dir.empty()) t.security = protocol::security_files(o_.security_dir, o_.identity);
     return t;

@@ -62,8 +62,8 @@ int main(int argc, char** argv) {
   auto* join_timeout = app.add_option("--join-timeout", o.join_timeout_s, "seconds to wait for the join reply")->check(CLI::PositiveNumber);
   app.add_flag("--loopback,!--no-loopback", o.loopback,
                "DDS on 127.0.0.1 only (default) or Fast DDS's default transports and discovery");
-  auto* server = app.add_option("--server", o.server, "tcp://HOST:PORT: reach a server started with --listen over TCP")
-                     ->check(throng::protocol::check_tcp_endpoint);
+  auto* server = app.add_option("--server", o.server, "udp://HOST:PORT or tcp://HOST:PORT: reach a server started with --listen")
+                     ->check(throng::protocol::check_endpoint);
   auto* security = app.add_option("--security", o.security_dir,
                                   "DDS Security: directory made by throng-pki; needs --identity")
                       ->check(CLI::ExistingDirectory);

@@ -1,18 +1,24 @@
-// "tcp://HOST:PORT" as the server's --listen and the clients' --server take it.
+// "tcp://HOST:PORT" and "udp://HOST:PORT" as the server's --listen and the clients' --server take them.
 #include <string>
 
 #include "throng/protocol/dds_transport.h"
 
 namespace throng::protocol {
 
-TcpEndpoint parse_tcp_endpoint(const std::string& text) {
-  const std::string prefix = "tcp://";
-  const std::string usage = "'" + text + "' is not tcp://HOST:PORT";
-  if (text.rfind(prefix, 0) != 0) throw TransportError(usage + " (it must start with tcp://)");
-  const std::string rest = text.substr(prefix.size());
+NetEndpoint parse_endpoint(const std::string& text) {
+  const std::string usage = "'" + text + "' is not tcp://HOST:PORT or udp://HOST:PORT";
+  NetEndpoint e;
+  std::string rest;
+  if (text.rfind("tcp://", 0) == 0) {
+    e.scheme = NetEndpoint::Scheme::tcp;
+  } else if (text.rfind("udp://", 0) == 0) {
+    e.scheme = NetEndpoint::Scheme::udp;
+  } else {
+    throw TransportError(usage + " (it must start with tcp:// or udp://)");
+  }
+  rest = text.substr(6);
   const auto colon = rest.rfind(':');
   if (colon == std::string::npos || colon == 0) throw TransportError(usage + " (host and port are both needed)");
-  TcpEndpoint e;
   e.host = rest.substr(0, colon);
   const std::string port = rest.substr(colon + 1);
   if (port.empty() || port.size() > 5 || port.find_first_not_of("0123456789") != std::string::npos)
@@ -23,9 +29,9 @@ TcpEndpoint parse_tcp_endpoint(const std::string& text) {
   return e;
 }
 
-std::string check_tcp_endpoint(const std::string& text) {
+std::string check_endpoint(const std::string& text) {
   try {
-    (void)parse_tcp_endpoint(text);
+    (void)parse_endpoint(text);
     return {};
   } catch (const TransportError& e) {
     return e.what();

@@ -13,10 +13,12 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <cstring>
 #include <map>
 #include <mutex>
 
 #include "embedded_profiles.h"
+#include "nat_udp_transport.h"
 
 namespace throng::protocol::dds_detail {
 
@@ -100,9 +102,9 @@ void use_tcp(dds::DomainParticipantQos& qos, const TransportOptions& o, const st
   auto tcp = std::make_shared<TCPv4TransportDescriptor>();
   // Snapshots and commands are small and latency-bound: Nagle would hold them for an ACK.
   tcp->enable_tcp_nodelay = true;
-  if (o.tcp_listen) {
-    tcp->add_listener_port(o.tcp_listen->port);
-    const std::string address = resolve_ipv4(o.tcp_listen->host, where);
+  if (o.listen_endpoint) {
+    tcp->add_listener_port(o.listen_endpoint->port);
+    const std::string address = resolve_ipv4(o.listen_endpoint->host, where);
     // Fast DDS 2.9 matches two participants on one host only when their whitelists agree about
     // loopback (fixed upstream after 2.9, PR 3733). Clients never whitelist, so a server bound to
     // one address serves other hosts (and namespaces) through it; 0.0.0.0 serves this host too, at
@@ -112,16 +114,58 @@ void use_tcp(dds::DomainParticipantQos& qos, const TransportOptions& o, const st
                            " is not supported (Fast DDS 2.9 cannot match it); listen on 0.0.0.0 or an interface's "
                            "address, or leave --listen out for a match on this host only (UDP on 127.0.0.1)");
     if (address != "0.0.0.0") tcp->interfaceWhiteList.push_back(address);
-    if (!o.tcp_public_address.empty()) tcp->set_WAN_address(resolve_ipv4(o.tcp_public_address, where));
+    if (!o.public_address.empty()) tcp->set_WAN_address(resolve_ipv4(o.public_address, where));
   }
-  if (o.tcp_server) {
+  if (o.server_endpoint) {
     Locator_t peer;
     peer.kind = LOCATOR_KIND_TCPv4;
-    IPLocator::setIPv4(peer, resolve_ipv4(o.tcp_server->host, where));
-    peer.port = o.tcp_server->port;
+    IPLocator::setIPv4(peer, resolve_ipv4(o.server_endpoint->host, where));
+    peer.port = o.server_endpoint->port;
     qos.wire_protocol().builtin.initialPeersList.push_back(peer);
   }
   qos.transport().user_transports.push_back(tcp);
+  qos.transport().use_builtin_transports = false;
+}
+
+// UDP across NAT (nat_udp_transport.h): the server binds its port and announces its public
+// address; a client binds any port and has the server as its one initial peer (participant ids
+// 0..3 of the server's process, as Fast DDS does for a UDP peer without a port).
+void use_nat_udp(dds::DomainParticipantQos& qos, const TransportOptions& o, const std::string& where) {
+  auto udp = std::make_shared<NatUdpTransportDescriptor>();
+  const auto ipv4 = [&](const std::string& host) {
+    in_addr a{};
+    ::inet_pton(AF_INET, resolve_ipv4(host, where).c_str(), &a);
+    return ntohl(a.s_addr);
+  };
+  if (o.listen_endpoint) {
+    udp->bind_address = ipv4(o.listen_endpoint->host);
+    udp->bind_port = o.listen_endpoint->port;
+    udp->public_port = o.listen_endpoint->port;
+    if (!o.public_address.empty()) {
+      udp->public_address = ipv4(o.public_address);
+    } else if (udp->bind_address != 0) {
+      udp->public_address = udp->bind_address;
+    } else {
+      throw TransportError(where + "a UDP listener on 0.0.0.0 needs the address players reach it at "
+                                   "(--public-address): over UDP the server announces it, players cannot learn it");
+    }
+    // Fast DDS refuses a transport that cannot bind without saying why: say it here.
+    const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_port = htons(udp->bind_port);
+    a.sin_addr.s_addr = htonl(udp->bind_address);
+    const bool bound = fd >= 0 && ::bind(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a) == 0;
+    const int error = errno;
+    if (fd >= 0) ::close(fd);
+    if (!bound)
+      throw TransportError(where + "cannot listen on " + o.listen_endpoint->text() + ": " + std::strerror(error));
+  }
+  if (o.server_endpoint) {
+    qos.wire_protocol().builtin.initialPeersList.push_back(
+        nat_udp_direct_locator(ipv4(o.server_endpoint->host), o.server_endpoint->port, 0));
+  }
+  qos.transport().user_transports.push_back(udp);
   qos.transport().use_builtin_transports = false;
 }
 
@@ -212,11 +256,17 @@ dds::DomainParticipant* create_participant(const TransportOptions& options, dds:
 
   auto* factory = dds::DomainParticipantFactory::get_instance();
   dds::DomainParticipantQos qos = factory->get_default_participant_qos();
-  const bool tcp = options.tcp_listen.has_value() || options.tcp_server.has_value();
+  const bool tcp = options.listen_endpoint.has_value() || options.server_endpoint.has_value();
+  const bool nat_udp = (options.listen_endpoint && options.listen_endpoint->scheme == NetEndpoint::Scheme::udp) ||
+                       (options.server_endpoint && options.server_endpoint->scheme == NetEndpoint::Scheme::udp);
   if (options.loopback_only && !tcp &&
       factory->get_participant_qos_from_profile(kLoopbackParticipantProfile, qos) != ReturnCode_t::RETCODE_OK)
     throw TransportError(where + profile_error("participant", kLoopbackParticipantProfile));
-  if (tcp) use_tcp(qos, options, where);
+  if (nat_udp) {
+    use_nat_udp(qos, options, where);
+  } else if (tcp) {
+    use_tcp(qos, options, where);
+  }
   qos.name(options.participant_name);
   if (options.security) add_security(qos, *options.security, where);
 

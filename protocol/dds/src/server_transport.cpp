@@ -69,7 +69,7 @@ struct ServerTransport::Impl {
     // opens a TCP connection from the server to its own listener. That connection's two channels
     // share one locator, so the transport forgets one of them, whose receive thread outlives the
     // transport and can crash the process as it exits (seen: "pure virtual method called").
-    if (options.tcp_listen) return;
+    if (options.listen_endpoint && options.listen_endpoint->scheme == NetEndpoint::Scheme::tcp) return;
     try {
       participant.create_standby_topics();
     } catch (const TransportError& e) {

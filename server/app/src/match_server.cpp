@@ -61,13 +61,13 @@ protocol::TransportOptions transport_options(const ServerOptions& o) {
     // both the container's and the node's, and status.address is where players connect.
     if (o.agones_port == 0) throw std::runtime_error("--listen agones: AGONES_SDK_HTTP_PORT is not set (not under Agones?)");
     const AgonesEndpoint e = agones_endpoint(o.agones_port, "dds", std::chrono::seconds(30));
-    t.tcp_listen = protocol::TcpEndpoint{"0.0.0.0", e.port};
-    t.tcp_public_address = o.public_address.empty() ? e.address : o.public_address;
+    t.listen_endpoint = protocol::NetEndpoint{"0.0.0.0", e.port};
+    t.public_address = o.public_address.empty() ? e.address : o.public_address;
     spdlog::info("Agones allocated port {} to 'dds': listening on tcp://0.0.0.0:{}, players connect to tcp://{}:{}", e.port,
-                 e.port, t.tcp_public_address, e.port);
+                 e.port, t.public_address, e.port);
   } else if (!o.listen.empty()) {
-    t.tcp_listen = protocol::parse_tcp_endpoint(o.listen);
-    t.tcp_public_address = o.public_address;
+    t.listen_endpoint = protocol::parse_endpoint(o.listen);
+    t.public_address = o.public_address;
   }
   return t;
 }
@@ -599,8 +599,10 @@ int MatchServer::run(bool handle_signals) {
   spdlog::info("match {} on DDS domain {} ({}): scene '{}', {} bodies, {} Hz, up to {} clients{}", m.match.match_info().match_id,
                m.options.domain,
                !m.options.listen.empty()
-                   ? fmt::format("TCP, listening on {}{}; no hot standby can follow it over TCP", m.options.listen,
-                                 m.options.public_address.empty() ? "" : ", clients told " + m.options.public_address)
+                   ? fmt::format("{}, listening on {}{}", m.options.listen.rfind("udp://", 0) == 0 ? "UDP across NAT" : "TCP",
+                                 m.options.listen,
+                                 (m.options.public_address.empty() ? "" : ", clients told " + m.options.public_address) +
+                                     (m.options.listen.rfind("udp://", 0) == 0 ? "" : "; no hot standby can follow it over TCP"))
                    : (m.options.loopback_only ? "127.0.0.1 only" : "default network"),
                m.scene.name,
                m.match.world().pos_x().size(), m.options.match.tick_hz, m.options.match.max_clients,

@@ -40,10 +40,12 @@ ParseResult parse_server_options(const std::vector<std::string>& args) {
   app.add_flag("!--network", o.loopback_only,
                "use Fast DDS's default transports and discovery (real network) instead of 127.0.0.1 only");
   app.add_option("--listen", o.listen,
-                 "tcp://ADDR:PORT: DDS over TCP only, listening there (0.0.0.0 = every interface); clients connect "
-                 "with --server tcp://HOST:PORT. No multicast, no UDP: for clouds and NAT. 'agones': the port Agones "
+                 "udp://ADDR:PORT: DDS over UDP on that one port, reaching clients behind NAT (needs --public-address "
+                 "with 0.0.0.0); clients connect with --server udp://HOST:PORT. tcp://ADDR:PORT: DDS over TCP only "
+                 "(0.0.0.0 = every interface); clients connect with --server tcp://HOST:PORT. Neither uses multicast: "
+                 "for clouds and NAT. 'agones': the TCP port Agones "
                  "allocated to the GameServer's port named dds (portPolicy Passthrough), told as the node's address")
-      ->check([](const std::string& v) { return v == kListenAgones ? std::string() : protocol::check_tcp_endpoint(v); });
+      ->check([](const std::string& v) { return v == kListenAgones ? std::string() : protocol::check_endpoint(v); });
   app.add_option("--public-address", o.public_address,
                  "with --listen: the IPv4 address clients reach the server at, when it is not the listening one "
                  "(NAT, a cloud load balancer)");

@@ -29,17 +29,23 @@ struct SecurityFiles {
   std::string permissions;     // this identity's signed permissions (topics and partitions)
 };
 
-// A TCP endpoint from "tcp://HOST:PORT" (parse_tcp_endpoint). host is an IPv4 address or a name
-// that resolves to one.
-struct TcpEndpoint {
+// A server endpoint from "tcp://HOST:PORT" or "udp://HOST:PORT" (parse_endpoint). host is an IPv4
+// address or a name that resolves to one.
+//  tcp: Fast DDS's TCPv4 transport (one connection per client process).
+//  udp: the NAT-crossing UDP transport (docs/hosting.md): datagrams, so a lost snapshot is
+//       superseded by the next instead of holding every later one back.
+struct NetEndpoint {
   std::string host;
   std::uint16_t port = 0;
+  enum class Scheme : std::uint8_t { tcp, udp } scheme = Scheme::tcp;
+  std::string text() const { return std::string(scheme == Scheme::udp ? "udp://" : "tcp://") + host + ":" + std::to_string(port); }
 };
 
-// Parses "tcp://HOST:PORT" (port 1..65535). Throws TransportError naming what is wrong.
-TcpEndpoint parse_tcp_endpoint(const std::string& text);
+// Parses "tcp://HOST:PORT" or "udp://HOST:PORT" (port 1..65535). Throws TransportError naming
+// what is wrong.
+NetEndpoint parse_endpoint(const std::string& text);
 // The same as a command-line check: "" when `text` parses, else the reason.
-std::string check_tcp_endpoint(const std::string& text);
+std::string check_endpoint(const std::string& text);
 
 struct TransportOptions {
   int domain_id = 0;           // 0..231
@@ -49,14 +55,15 @@ struct TransportOptions {
   bool loopback_only = true;
   std::string participant_name = "throng";
   std::optional<SecurityFiles> security;  // nullopt: no DDS Security
-  // Reaching a server without multicast (a cloud, NAT): the server listens on TCP at `tcp_listen`
-  // (host 0.0.0.0 = every interface) and tells clients `tcp_public_address` (its address as they
-  // see it; empty = the one they connected to); a client connects to `tcp_server`. Either one
-  // replaces every other transport of the participant: discovery runs over that TCP connection,
-  // with no multicast and no well-known UDP ports. loopback_only is then ignored.
-  std::optional<TcpEndpoint> tcp_listen{};
-  std::string tcp_public_address{};
-  std::optional<TcpEndpoint> tcp_server{};
+  // Reaching a server without multicast (a cloud, NAT): the server listens on TCP or UDP at
+  // `listen_endpoint` (host 0.0.0.0 = every interface) and tells clients `public_address` (its
+  // address as they see it; over TCP empty = the one they connected to, over UDP empty = the
+  // listen host, which must then not be 0.0.0.0); a client reaches `server_endpoint`. Either one
+  // replaces every other transport of the participant: discovery runs over that one path, with no
+  // multicast and no well-known ports. loopback_only is then ignored.
+  std::optional<NetEndpoint> listen_endpoint{};
+  std::string public_address{};
+  std::optional<NetEndpoint> server_endpoint{};
 };
 
 // Bytes and samples a transport wrote, for metrics (payload bytes as serialized, no RTPS headers).
