@@ -104,6 +104,7 @@ void Bot::on_snapshot(const protocol::Snapshot& snap, std::size_t wire_bytes, Ti
   std::lock_guard lock(mutex_);
   if (join_.state() != State::joined && join_.state() != State::left) return;
   if (snap.client_id != join_.reply().client_id) return;  // not ours (never expected: one partition per client)
+  if (world_.tick_hz() > 0) metrics_.set_tick_ms(1000.0 / world_.tick_hz());
   metrics_.on_snapshot_received(snap.tick, wire_bytes, now);
   if (world_.apply(snap) != ClientWorld::ApplyResult::applied) return;
   last_applied_sequence_ = snap.last_applied_sequence;
@@ -191,6 +192,7 @@ BotReport Bot::report(TimePoint now) const {
   if (auto first = metrics_.first_snapshot()) r.active_s = std::chrono::duration<double>(now - *first).count();
   r.latency_ms = metrics_.latency_ms();
   r.interarrival_ms = metrics_.interarrival_ms();
+  r.staleness_ms = metrics_.staleness_ms();
   r.first_pose = first_pose_;
   r.last_pose = world_.own_pose();
   if (r.first_pose && r.last_pose) r.moved_m = std::hypot(r.last_pose->x - r.first_pose->x, r.last_pose->y - r.first_pose->y);

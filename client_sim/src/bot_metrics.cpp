@@ -39,6 +39,11 @@ void BotMetrics::on_snapshot_received(std::uint64_t tick, std::size_t wire_bytes
     snapshots_.longest_gap_ticks = std::max(snapshots_.longest_gap_ticks, missed);
   }
   newest_tick_ = tick;
+  if (tick_ms_ > 0) {
+    const double offset = ms_between(TimePoint{}, t) - static_cast<double>(tick) * tick_ms_;
+    if (!min_offset_ms_ || offset < *min_offset_ms_) min_offset_ms_ = offset;
+    staleness_ms_.add(offset - *min_offset_ms_);
+  }
 }
 
 void BotMetrics::on_applied_sequence(std::uint32_t last_applied_sequence, TimePoint t) {

@@ -27,7 +27,7 @@ bool failed(const BotReport& b) { return b.state == "refused" || b.state == "tim
 Aggregate aggregate(const RunReport& report) {
   Aggregate a;
   a.clients = report.bots.size();
-  Samples latency, interarrival, join;
+  Samples latency, interarrival, join, staleness;
   double kbps_sum = 0;
   std::size_t kbps_n = 0;
   double active_sum = 0;
@@ -39,6 +39,7 @@ Aggregate aggregate(const RunReport& report) {
     }
     latency.append(b.latency_ms);
     interarrival.append(b.interarrival_ms);
+    staleness.append(b.staleness_ms);
     a.gap_ticks += b.snapshots.missed_ticks;
     a.longest_gap_ticks = std::max(a.longest_gap_ticks, b.snapshots.longest_gap_ticks);
     a.rejoins += b.rejoins;
@@ -62,6 +63,7 @@ Aggregate aggregate(const RunReport& report) {
   }
   a.latency_ms = latency.summary();
   a.interarrival_ms = interarrival.summary();
+  a.staleness_ms = staleness.summary();
   a.join_ms = join.summary();
   a.kbit_per_s_mean = kbps_n ? kbps_sum / static_cast<double>(kbps_n) : 0.0;
   a.snapshots_per_s_per_client = active_sum > 0 ? static_cast<double>(a.snapshots) / active_sum : 0.0;
@@ -108,6 +110,7 @@ nlohmann::json to_json(const BotReport& b) {
                       {"kbit_per_s", b.kbit_per_s()},
                       {"latency_ms", summary_json(b.latency_ms.summary())},
                       {"snapshot_interarrival_ms", summary_json(b.interarrival_ms.summary())},
+                      {"snapshot_staleness_ms", summary_json(b.staleness_ms.summary())},
                       {"first_pose", pose_json(b.first_pose)},
                       {"last_pose", pose_json(b.last_pose)},
                       {"moved_m", b.moved_m},
@@ -130,6 +133,7 @@ nlohmann::json to_json(const RunReport& r) {
       {"behavior", r.behavior},
       {"latency_ms", summary_json(a.latency_ms)},
       {"snapshot_interarrival_ms", summary_json(a.interarrival_ms)},
+      {"snapshot_staleness_ms", summary_json(a.staleness_ms)},
       {"snapshot_gap_ticks", a.gap_ticks},
       {"max_snapshot_gap_ticks", a.longest_gap_ticks},
       {"rejoins", a.rejoins},
@@ -174,6 +178,10 @@ std::string to_text(const RunReport& r) {
                      a.bots_rejoined, a.rejoins);
   s += fmt::format("  inter-arrival     p50 {:.1f} ms  p90 {:.1f} ms  p99 {:.1f} ms  max {:.1f} ms\n",
                    a.interarrival_ms.p50, a.interarrival_ms.p90, a.interarrival_ms.p99, a.interarrival_ms.max);
+  if (a.staleness_ms.count > 0)
+    s += fmt::format("  staleness         p50 {:.1f} ms  p99 {:.1f} ms  max {:.1f} ms  (newest snapshot's age beyond the "
+                     "path's fastest delivery, on the server's tick clock)\n",
+                     a.staleness_ms.p50, a.staleness_ms.p99, a.staleness_ms.max);
   s += fmt::format("  bandwidth         {:.1f} kbit/s per client (max {:.1f}), {:.2f} MB total\n", a.kbit_per_s_mean,
                    a.kbit_per_s_max, static_cast<double>(a.bytes) / 1e6);
   if (r.server_stats) {

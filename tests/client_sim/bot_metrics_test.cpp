@@ -64,3 +64,29 @@ TEST(BotMetrics, GapsInterArrivalAndBytes) {
 
 }  // namespace
 }  // namespace throng::client_sim
+
+namespace throng::client_sim {
+namespace {
+
+// Staleness: arrivals on the tick clock give 0; a stream that falls further behind (every sample
+// arriving, none missed) shows its growing age even though no tick is missed.
+TEST(BotMetricsStaleness, ASteadyStreamIsFreshAndOneFallingBehindIsNot) {
+  const TimePoint t0{};
+  BotMetrics steady, behind;
+  steady.set_tick_ms(33.0);
+  behind.set_tick_ms(33.0);
+  for (std::uint64_t tick = 1; tick <= 100; ++tick) {
+    steady.on_snapshot_received(tick, 100, t0 + std::chrono::microseconds(33'000 * tick + 40'000));
+    // Every sample arrives, each 2 ms later against the tick clock than the one before.
+    behind.on_snapshot_received(tick, 100, t0 + std::chrono::microseconds(35'000 * tick + 40'000));
+  }
+  EXPECT_EQ(steady.staleness_ms().summary().max, 0.0);
+  EXPECT_EQ(behind.snapshots().missed_ticks, 0u);
+  EXPECT_NEAR(behind.staleness_ms().summary().max, 198.0, 0.01);  // 99 ticks x 2 ms
+  BotMetrics unknown;  // no tick period yet: nothing measured
+  unknown.on_snapshot_received(1, 100, t0);
+  EXPECT_EQ(unknown.staleness_ms().summary().count, 0u);
+}
+
+}  // namespace
+}  // namespace throng::client_sim

@@ -7,6 +7,10 @@
 //  - snapshots: samples and payload bytes received, inter-arrival time between consecutive
 //    snapshots, missed ticks (a tick jump of k > 1 counts k - 1), out-of-order/duplicate samples.
 //  - join time: launch -> first snapshot.
+//  - staleness: how old the newest snapshot is when it arrives, against the server's tick clock:
+//    (arrival - tick x tick period) less the smallest such offset seen, i.e. how much later than
+//    the path's fastest delivery it came. A stream that falls behind (TCP holding samples behind
+//    a loss) shows here even when no tick is missed. Measured once the tick period is known.
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
@@ -54,6 +58,9 @@ class BotMetrics {
   const SnapshotCounts& snapshots() const { return snapshots_; }
   const Samples& latency_ms() const { return latency_ms_; }
   const Samples& interarrival_ms() const { return interarrival_ms_; }
+  const Samples& staleness_ms() const { return staleness_ms_; }
+  // The server's tick period (from its match info); 0 until known.
+  void set_tick_ms(double ms) { tick_ms_ = ms; }
   std::optional<double> join_ms() const;
   std::optional<TimePoint> first_snapshot() const { return first_snapshot_; }
   std::optional<TimePoint> last_snapshot() const { return last_snapshot_; }
@@ -77,7 +84,9 @@ class BotMetrics {
   std::deque<Pending> pending_;
   CommandCounts commands_;
   SnapshotCounts snapshots_;
-  Samples latency_ms_, interarrival_ms_, window_latency_ms_;
+  Samples latency_ms_, interarrival_ms_, window_latency_ms_, staleness_ms_;
+  double tick_ms_ = 0;
+  std::optional<double> min_offset_ms_;
 };
 
 }  // namespace throng::client_sim

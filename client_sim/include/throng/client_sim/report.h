@@ -38,6 +38,7 @@ struct BotReport {
   double active_s = 0;         // first snapshot -> report time
   Samples latency_ms;
   Samples interarrival_ms;
+  Samples staleness_ms;  // BotMetrics::staleness_ms
   std::optional<ObjectState> first_pose, last_pose;  // own entity
   double moved_m = 0;          // horizontal distance first_pose -> last_pose
   std::size_t world_objects = 0;
@@ -57,7 +58,7 @@ struct RunReport {
 
 struct Aggregate {
   std::size_t clients = 0, joined = 0, join_failed = 0;
-  Summary latency_ms, interarrival_ms, join_ms;
+  Summary latency_ms, interarrival_ms, join_ms, staleness_ms;
   std::uint64_t gap_ticks = 0, out_of_order = 0, decode_errors = 0;
   std::uint64_t longest_gap_ticks = 0;  // the longest run of missed ticks at any bot
   std::uint64_t rejoins = 0;            // joins again, over all bots (--rejoin-after)
