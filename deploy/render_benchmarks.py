@@ -7,6 +7,8 @@ results that deploy/make-benchmarks-doc.sh keeps in server/bench/results/:
   worst-tick.json         deploy/measure-worst-tick.sh (JSON_OUT)
   contact-validation.txt  throng-bench validate-contacts
   machine.json            where and when they were measured
+  internet/*.json         deploy/measure-internet.sh: players across an emulated internet path
+                          (optional: the section is left out without them)
 
 Every measured figure in the output comes from those files, so the document cannot drift from
 them; the prose here names only the scenes' fixed settings. The README keeps its one table: rows whose first cell is a key
@@ -122,6 +124,74 @@ def worst_section(worst):
         out.append(f"| {r['scene']} | {n_fmt(r['agents'])} | {r['carry']} | {rot['worst_max_pen_over_radius']:.3f} | "
                    f"{rot['worst_p99_pen_over_radius']:.3f} | {rot['ticks_over_0_5_r']} | {t['median']:,.0f} | {t['p95']:,.0f} |")
     out.append("")
+    return out
+
+
+# The internet path's targets (issue 44): UDP through the NAT at 2 % loss against the same path
+# without loss, at 100 and 200 ms round trip.
+TARGET_LOSSY_P99_RATIO = 1.25
+TARGET_INTERARRIVAL_TICKS = 3
+TARGET_MISSED_OVER_LOSS = 0.005
+
+
+def internet_section(results):
+    folder = os.path.join(results, "internet")
+    if not os.path.isdir(folder):
+        return []
+    cells = {}
+    for name in sorted(os.listdir(folder)):
+        if name.endswith(".json"):
+            cells[name[:-5]] = json.load(open(os.path.join(folder, name)))
+    if not cells:
+        return []
+    order = [f"rtt{r}-loss{l}" for r in (40, 100, 200) for l in ("0", "0.01", "0.02", "0.03")] + ["rtt100-burst"]
+    out = ["## Players across an emulated internet path\n"]
+    out.append("`deploy/measure-internet.sh`: the server in one network namespace, 20 bots in 4 `throng-bots` processes "
+               "in another behind a home NAT (port-restricted cone), joined by `throng-link` with ±5 ms jitter and the "
+               "loss given, in both directions; the default battle scaled to 1,000 NPCs, 30 Hz. Burst: Gilbert–Elliott, "
+               "1 % chance per packet to enter a burst, mean burst 4 packets. Staleness: each newest snapshot's age at "
+               "arrival beyond the path's fastest delivery, on the server's tick clock; **fell behind**: its p99 over "
+               "4 ticks (what the player sees is that much older than the path allows) while the bots count the "
+               "ticks as received. Command→applied and staleness p50: the median of the processes'; p99 and max: the "
+               "worst process's.\n")
+    out.append("| path | round trip | loss | joined | command→applied p50 / p99 / max ms | snapshot inter-arrival p99 / max ms "
+               "| staleness p50 / p99 / max ms | missed | snapshots/s | kbit/s per client |")
+    out.append("|---|---|---|---|---|---|---|---|---|---|")
+    f = lambda v: "–" if v is None else f"{v:,.0f}"
+    for scheme in ("udp", "tcp"):
+        for key in order:
+            c = cells.get(f"{scheme}-{key}")
+            if c is None:
+                continue
+            rtt = key.split("-")[0][3:]
+            loss = "burst" if key.endswith("burst") else f"{float(key.split('loss')[1]) * 100:g} %"
+            l, i, st = c["latency_ms"], c["interarrival_ms"], c["staleness_ms"]
+            path = "UDP (NAT)" if scheme == "udp" else "TCP (NAT)"
+            late = (st["p99"] or 0) > 4 * 1000.0 / c["tick_hz"] or c["ticks_covered"] < 0.95
+            behind = " **fell behind**" if late else ""
+            out.append(f"| {path} | {rtt} ms | {loss} | {c['joined']}/{c['bots']} | {f(l['p50'])} / {f(l['p99'])} / {f(l['max'])} "
+                       f"| {f(i['p99'])} / {f(i['max'])} | {f(st['p50'])} / {f(st['p99'])} / {f(st['max'])} "
+                       f"| {100 * c['missed']:.2f} %{behind} | {c['snapshots_per_s']:.1f} of {c['tick_hz']} "
+                       f"| {c['kbit_per_s_per_client']:.0f} |")
+    out.append("")
+    rows = []
+    for rtt in (100, 200):
+        clean, lossy = cells.get(f"udp-rtt{rtt}-loss0"), cells.get(f"udp-rtt{rtt}-loss0.02")
+        if not clean or not lossy:
+            continue
+        ratio = lossy["latency_ms"]["p99"] / clean["latency_ms"]["p99"]
+        tick_ms = 1000.0 / lossy["tick_hz"]
+        ia = lossy["interarrival_ms"]["p99"] / tick_ms
+        missed_ok = lossy["missed"] <= 0.02 + TARGET_MISSED_OVER_LOSS
+        rows.append(f"| UDP through the NAT, {rtt} ms, 2 % loss | command→applied p99 {ratio:.2f}× the lossless path's "
+                    f"(≤ {TARGET_LOSSY_P99_RATIO}) {met(ratio <= TARGET_LOSSY_P99_RATIO)}; inter-arrival p99 {ia:.1f} ticks "
+                    f"(≤ {TARGET_INTERARRIVAL_TICKS}) {met(ia <= TARGET_INTERARRIVAL_TICKS)}; missed {100 * lossy['missed']:.2f} % "
+                    f"(≤ 2.5 %) {met(missed_ok)} |")
+    if rows:
+        out.append("| target | measured |")
+        out.append("|---|---|")
+        out += rows
+        out.append("")
     return out
 
 
@@ -277,6 +347,7 @@ the next list's search or searched twice). `--trace FILE` writes one CSV line pe
     out += worst_section(worst)
     out += targets(sweep, threads, worst)
     out += contact_section(contacts)
+    out += internet_section(results)
     out.append("""## Figures measured by other scripts
 
 These measure the server, the network and the match log rather than the engine, take minutes to
