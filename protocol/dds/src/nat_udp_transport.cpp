@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <algorithm>
 #include <cstring>
 #include <vector>
 
@@ -25,6 +26,11 @@ namespace {
 
 constexpr std::uint8_t kMagic[4] = {'T', 'H', 'N', 'U'};
 constexpr std::uint8_t kVersion = 1;
+constexpr std::uint8_t kFlagFragment = 1;
+// Bounds on messages in pieces: a sender cannot make the receiver hold more than this.
+constexpr std::size_t kMaxPieces = (kNatUdpMaxMessage + kNatUdpFragmentPayload - 1) / kNatUdpFragmentPayload;
+constexpr std::size_t kMaxPartials = 256;
+constexpr auto kPartialLifetime = std::chrono::seconds(2);
 // Locator address byte 0: what the rest of the address holds.
 constexpr std::uint8_t kDirect = 1;  // bytes 10-11 UDP port, 12-15 IPv4 address (network order)
 constexpr std::uint8_t kToken = 2;   // bytes 4-15 the client's token
@@ -149,6 +155,7 @@ bool NatUdpTransport::OpenOutputChannel(rtps::SendResourceList& list, const Loca
 bool NatUdpTransport::OpenInputChannel(const Locator& locator, Receiver* receiver, std::uint32_t) {
   if (!IsLocatorSupported(locator) || socket_ < 0) return false;
   std::unique_lock lock(channels_mutex_);
+  if (!first_channel_) first_channel_ = locator.port;
   return channels_.emplace(locator.port, receiver).second;
 }
 
@@ -246,12 +253,14 @@ bool NatUdpTransport::destination(const Locator& locator, sockaddr_in& out) cons
 bool NatUdpTransport::send(const std::uint8_t* data, std::uint32_t size, rtps::LocatorsIterator* begin,
                            rtps::LocatorsIterator* end) {
   if (socket_ < 0 || size > kNatUdpMaxMessage) return false;
-  std::uint8_t buffer[kNatUdpHeaderBytes + kNatUdpMaxMessage];
+  std::uint8_t buffer[kNatUdpFragmentHeaderBytes + kNatUdpDatagramPayload];
   std::memcpy(buffer, kMagic, 4);
   buffer[4] = kVersion;
-  buffer[5] = buffer[6] = buffer[7] = 0;
+  buffer[6] = buffer[7] = 0;
   std::memcpy(buffer + 12, token_.data(), token_.size());
-  std::memcpy(buffer + kNatUdpHeaderBytes, data, size);
+  const bool whole = size <= kNatUdpDatagramPayload;
+  const std::size_t pieces = whole ? 1 : (size + kNatUdpFragmentPayload - 1) / kNatUdpFragmentPayload;
+  const std::uint32_t id = whole ? 0 : next_message_id_.fetch_add(1);
   bool ok = true;
   for (rtps::LocatorsIterator& it = *begin; it != *end; ++it) {
     const Locator& l = *it;
@@ -259,11 +268,27 @@ bool NatUdpTransport::send(const std::uint8_t* data, std::uint32_t size, rtps::L
     sockaddr_in to;
     if (!destination(l, to)) continue;
     put32(buffer + 8, l.port);
-    const ssize_t sent = ::sendto(socket_, buffer, kNatUdpHeaderBytes + size, MSG_DONTWAIT,
-                                  reinterpret_cast<const sockaddr*>(&to), sizeof to);
-    // A full socket buffer drops the datagram, as a congested router would: best-effort data is
-    // superseded and reliable data is repaired by its protocol.
-    if (sent < 0 && errno != EAGAIN && errno != EWOULDBLOCK) ok = false;
+    for (std::size_t i = 0; i < pieces; ++i) {
+      std::size_t header = kNatUdpHeaderBytes, from = 0, n = size;
+      buffer[5] = 0;
+      if (!whole) {
+        buffer[5] = kFlagFragment;
+        put32(buffer + 24, id);
+        buffer[28] = static_cast<std::uint8_t>(i >> 8);
+        buffer[29] = static_cast<std::uint8_t>(i);
+        buffer[30] = static_cast<std::uint8_t>(pieces >> 8);
+        buffer[31] = static_cast<std::uint8_t>(pieces);
+        header = kNatUdpFragmentHeaderBytes;
+        from = i * kNatUdpFragmentPayload;
+        n = std::min(kNatUdpFragmentPayload, size - from);
+      }
+      std::memcpy(buffer + header, data + from, n);
+      const ssize_t sent = ::sendto(socket_, buffer, header + n, MSG_DONTWAIT, reinterpret_cast<const sockaddr*>(&to),
+                                    sizeof to);
+      // A full socket buffer drops the datagram, as a congested router would: best-effort data
+      // is superseded and reliable data is repaired by its protocol.
+      if (sent < 0 && errno != EAGAIN && errno != EWOULDBLOCK) ok = false;
+    }
   }
   return ok;
 }
@@ -298,28 +323,83 @@ void NatUdpTransport::receive_loop() {
       const ssize_t n = ::recvfrom(socket_, buffer.data(), buffer.size(), MSG_DONTWAIT,
                                    reinterpret_cast<sockaddr*>(&from), &from_len);
       if (n < 0) break;
-      // Not ours, or not an RTPS message behind our header: dropped before anything is learned.
-      if (static_cast<std::size_t>(n) < kNatUdpHeaderBytes + 20 || std::memcmp(buffer.data(), kMagic, 4) != 0 ||
-          buffer[4] != kVersion || std::memcmp(buffer.data() + kNatUdpHeaderBytes, "RTPS", 4) != 0)
-        continue;
+      if (static_cast<std::size_t>(n) < kNatUdpHeaderBytes + 1 || std::memcmp(buffer.data(), kMagic, 4) != 0 ||
+          buffer[4] != kVersion)
+        continue;  // not ours
       Token token;
       std::memcpy(token.data(), buffer.data() + 12, token.size());
       if (token == token_) continue;  // our own datagram, looped back
-      learn(token, from);
-      const std::uint32_t channel = get32(buffer.data() + 8);
-      Locator_t remote;
-      remote.kind = kNatUdpLocatorKind;
-      remote.port = channel;
-      std::memset(remote.address, 0, sizeof remote.address);
-      remote.address[0] = kToken;
-      std::memcpy(remote.address + 4, token.data(), token.size());
-      std::shared_lock lock(channels_mutex_);
-      const auto it = channels_.find(channel);
-      if (it == channels_.end()) continue;  // a channel this participant does not have (another id's)
-      it->second->OnDataReceived(buffer.data() + kNatUdpHeaderBytes,
-                                 static_cast<std::uint32_t>(n) - kNatUdpHeaderBytes, self_locator(channel), remote);
+      if (buffer[5] & kFlagFragment) {
+        reassemble(token, from, buffer.data(), static_cast<std::size_t>(n));
+      } else {
+        deliver(token, from, get32(buffer.data() + 8), buffer.data() + kNatUdpHeaderBytes,
+                static_cast<std::size_t>(n) - kNatUdpHeaderBytes);
+      }
+    }
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_expiry_ > std::chrono::milliseconds(200)) {
+      last_expiry_ = now;
+      for (auto it = partial_.begin(); it != partial_.end();)
+        it = now - it->second.first > kPartialLifetime ? partial_.erase(it) : std::next(it);
     }
   }
+}
+
+void NatUdpTransport::reassemble(const Token& token, const sockaddr_in& from, const std::uint8_t* d, std::size_t n) {
+  if (n <= kNatUdpFragmentHeaderBytes) return;
+  const std::uint32_t id = get32(d + 24);
+  const std::size_t index = (std::size_t{d[28]} << 8) | d[29];
+  const std::size_t count = (std::size_t{d[30]} << 8) | d[31];
+  const std::size_t len = n - kNatUdpFragmentHeaderBytes;
+  const std::uint32_t channel = get32(d + 8);
+  // Every piece but the last is full; a count that could not have been sent is not ours.
+  if (count < 2 || count > kMaxPieces || index >= count || len > kNatUdpFragmentPayload ||
+      (index + 1 < count && len != kNatUdpFragmentPayload))
+    return;
+  const auto key = std::make_pair(token, id);
+  auto it = partial_.find(key);
+  if (it == partial_.end()) {
+    if (partial_.size() >= kMaxPartials) return;  // a flood of beginnings: the rest waits for expiry
+    Partial p;
+    p.bytes.resize(count * kNatUdpFragmentPayload);
+    p.have.assign(count, false);
+    p.channel = channel;
+    p.first = std::chrono::steady_clock::now();
+    it = partial_.emplace(key, std::move(p)).first;
+  }
+  Partial& p = it->second;
+  if (p.have.size() != count || p.channel != channel) {  // pieces that disagree: drop the message
+    partial_.erase(it);
+    return;
+  }
+  if (p.have[index]) return;
+  p.have[index] = true;
+  ++p.received;
+  std::memcpy(p.bytes.data() + index * kNatUdpFragmentPayload, d + kNatUdpFragmentHeaderBytes, len);
+  if (index + 1 == count) p.size = index * kNatUdpFragmentPayload + len;
+  if (p.received < count) return;
+  Partial whole = std::move(p);
+  partial_.erase(it);
+  deliver(token, from, channel, whole.bytes.data(), whole.size);
+}
+
+void NatUdpTransport::deliver(const Token& token, const sockaddr_in& from, std::uint32_t channel,
+                              const std::uint8_t* data, std::size_t size) {
+  // Not an RTPS message: dropped before anything is learned from it.
+  if (size < 20 || std::memcmp(data, "RTPS", 4) != 0) return;
+  learn(token, from);
+  Locator_t remote;
+  remote.kind = kNatUdpLocatorKind;
+  remote.port = channel;
+  std::memset(remote.address, 0, sizeof remote.address);
+  remote.address[0] = kToken;
+  std::memcpy(remote.address + 4, token.data(), token.size());
+  std::shared_lock lock(channels_mutex_);
+  auto it = channels_.find(channel);
+  if (it == channels_.end() && channel == kNatUdpServerDiscoveryChannel && first_channel_)
+    it = channels_.find(*first_channel_);
+  if (it == channels_.end()) return;  // a channel this participant does not have
+  it->second->OnDataReceived(data, static_cast<std::uint32_t>(size), self_locator(channel), remote);
 }
 
 }  // namespace throng::protocol::dds_detail

@@ -10,7 +10,10 @@
 //    socket the client sent to, which is what a port-restricted NAT lets back in.
 // Every datagram starts with a 24-byte header: magic, version, the logical channel it is for
 // (Fast DDS's locator port: metatraffic or user data) and the sender's token; the RTPS message
-// follows. So one socket carries every channel, and discovery, reliable topics and best-effort
+// follows. A message longer than one datagram carries (DDS Security's handshake holds
+// certificates and a permissions document of several kB) is cut into datagrams of its own here,
+// with 8 more header bytes (message id, index, count), and put back together by the receiver:
+// IP never fragments, which many NATs and load balancers drop. So one socket carries every channel, and discovery, reliable topics and best-effort
 // snapshots all cross the NAT on the mapping the client's first datagram made.
 //
 // A token's address is taken from the first datagram that names it and changes only after that
@@ -27,9 +30,11 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <shared_mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <netinet/in.h>
 
@@ -40,10 +45,14 @@ namespace throng::protocol::dds_detail {
 // kind it does not know. A participant with this transport has no other, so no UDPv6 transport
 // ever sees these locators; their addresses never start with 0xff, so none reads as multicast.
 constexpr std::int32_t kNatUdpLocatorKind = LOCATOR_KIND_UDPv6;
-// The largest RTPS message handed to the socket: with the header, IPv4 and UDP it stays under a
-// 1500-byte MTU, so no datagram is fragmented by IP (one lost fragment would lose it whole).
-constexpr std::uint32_t kNatUdpMaxMessage = 1400;
+// The largest RTPS message Fast DDS hands this transport: room for the security handshake. Fast
+// DDS cuts larger samples into RTPS fragments itself, each repaired on its own.
+constexpr std::uint32_t kNatUdpMaxMessage = 16384;
+// RTPS bytes in one datagram: with the header, IPv4 and UDP it stays under a 1500-byte MTU.
+constexpr std::size_t kNatUdpDatagramPayload = 1400;
 constexpr std::size_t kNatUdpHeaderBytes = 24;
+constexpr std::size_t kNatUdpFragmentHeaderBytes = 32;
+constexpr std::size_t kNatUdpFragmentPayload = kNatUdpDatagramPayload - (kNatUdpFragmentHeaderBytes - kNatUdpHeaderBytes);
 
 struct NatUdpTransportDescriptor final : eprosima::fastdds::rtps::TransportDescriptorInterface {
   NatUdpTransportDescriptor() : TransportDescriptorInterface(kNatUdpMaxMessage, 4) {}
@@ -59,8 +68,14 @@ struct NatUdpTransportDescriptor final : eprosima::fastdds::rtps::TransportDescr
   bool server() const { return bind_port != 0; }
 };
 
-// A direct locator for ADDRESS:PORT (the server's), with logical channel `channel` (0: Fast DDS
-// fills in the well-known port of participants 0..3, as for a UDP initial peer).
+// The channel a client's initial peer names: "the server's discovery channel, whatever its
+// participant id". Fast DDS's own ports depend on the id, which a client cannot know (a process
+// that made and deleted participants before, such as a test binary, hands out higher ids). The
+// server's transport takes it for the first channel Fast DDS opened on it, which is the
+// participant's metatraffic unicast channel (RTPSParticipantImpl opens it before the user ones).
+constexpr std::uint32_t kNatUdpServerDiscoveryChannel = 1;
+
+// A direct locator for ADDRESS:PORT (the server's), with logical channel `channel`.
 eprosima::fastrtps::rtps::Locator_t nat_udp_direct_locator(std::uint32_t address, std::uint16_t port,
                                                            std::uint32_t channel);
 
@@ -113,8 +128,22 @@ class NatUdpTransport final : public eprosima::fastdds::rtps::TransportInterface
     std::chrono::steady_clock::time_point last_heard;
   };
 
+  // A message arriving in pieces; only the receive thread touches these.
+  struct Partial {
+    std::vector<std::uint8_t> bytes;
+    std::vector<bool> have;
+    std::uint16_t received = 0;
+    std::size_t size = 0;  // known once the last piece came
+    std::uint32_t channel = 0;
+    std::chrono::steady_clock::time_point first;
+  };
+
   Locator self_locator(std::uint32_t channel) const;
   void receive_loop();
+  void deliver(const Token& token, const sockaddr_in& from, std::uint32_t channel, const std::uint8_t* data,
+               std::size_t size);
+  // A piece of a message; delivers the message when it is whole.
+  void reassemble(const Token& token, const sockaddr_in& from, const std::uint8_t* datagram, std::size_t size);
   void learn(const Token& token, const sockaddr_in& from);
   bool destination(const Locator& locator, sockaddr_in& out) const;
 
@@ -127,9 +156,14 @@ class NatUdpTransport final : public eprosima::fastdds::rtps::TransportInterface
 
   mutable std::shared_mutex channels_mutex_;
   std::map<std::uint32_t, Receiver*> channels_;  // logical channel -> Fast DDS's receiver
+  std::optional<std::uint32_t> first_channel_;    // the metatraffic unicast one
 
   mutable std::shared_mutex learned_mutex_;
   std::map<Token, Learned> learned_;
+
+  std::atomic<std::uint32_t> next_message_id_{0};
+  std::map<std::pair<Token, std::uint32_t>, Partial> partial_;
+  std::chrono::steady_clock::time_point last_expiry_{};
 };
 
 }  // namespace throng::protocol::dds_detail

@@ -128,8 +128,8 @@ void use_tcp(dds::DomainParticipantQos& qos, const TransportOptions& o, const st
 }
 
 // UDP across NAT (nat_udp_transport.h): the server binds its port and announces its public
-// address; a client binds any port and has the server as its one initial peer (participant ids
-// 0..3 of the server's process, as Fast DDS does for a UDP peer without a port).
+// address; a client binds any port and has the server as its one initial peer, on the channel
+// that reaches the server's discovery whatever its participant id.
 void use_nat_udp(dds::DomainParticipantQos& qos, const TransportOptions& o, const std::string& where) {
   auto udp = std::make_shared<NatUdpTransportDescriptor>();
   const auto ipv4 = [&](const std::string& host) {
@@ -163,7 +163,7 @@ void use_nat_udp(dds::DomainParticipantQos& qos, const TransportOptions& o, cons
   }
   if (o.server_endpoint) {
     qos.wire_protocol().builtin.initialPeersList.push_back(
-        nat_udp_direct_locator(ipv4(o.server_endpoint->host), o.server_endpoint->port, 0));
+        nat_udp_direct_locator(ipv4(o.server_endpoint->host), o.server_endpoint->port, kNatUdpServerDiscoveryChannel));
   }
   qos.transport().user_transports.push_back(udp);
   qos.transport().use_builtin_transports = false;

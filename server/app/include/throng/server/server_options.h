@@ -19,7 +19,7 @@ struct ServerOptions {
   std::uint64_t npcs = 6000;       // scale the scene to this many bodies; 0 = the scene's own count
   int domain = 0;                  // DDS domain id, 0..231
   bool loopback_only = true;       // DDS on 127.0.0.1 only (false: Fast DDS default transports)
-  std::string listen;              // --listen tcp://ADDR:PORT or "agones": DDS over TCP only (clients --server)
+  std::string listen;              // --listen udp://ADDR:PORT, tcp://ADDR:PORT or "agones": DDS on that port only (clients --server)
   std::string public_address;      // --public-address IP: the address clients are told (NAT, LB)
   double duration_s = 0.0;         // 0 = until SIGINT/SIGTERM
   int admin_port = 9470;           // -1 = no admin HTTP, 0 = any free port
