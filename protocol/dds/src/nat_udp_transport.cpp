@@ -30,7 +30,12 @@ constexpr std::uint8_t kFlagFragment = 1;
 // Bounds on messages in pieces: a sender cannot make the receiver hold more than this.
 constexpr std::size_t kMaxPieces = (kNatUdpMaxMessage + kNatUdpFragmentPayload - 1) / kNatUdpFragmentPayload;
 constexpr std::size_t kMaxPartials = 256;
+constexpr std::size_t kMaxPartialsPerSource = 8;
 constexpr auto kPartialLifetime = std::chrono::seconds(2);
+// A token not heard from for this long is forgotten (a client that left; a stranger's invention).
+constexpr auto kForgetAfter = std::chrono::seconds(60);
+// Datagrams handled between two looks at the stop flag and the expiry sweeps.
+constexpr int kBatch = 64;
 // Locator address byte 0: what the rest of the address holds.
 constexpr std::uint8_t kDirect = 1;  // bytes 10-11 UDP port, 12-15 IPv4 address (network order)
 constexpr std::uint8_t kToken = 2;   // bytes 4-15 the client's token
@@ -76,7 +81,14 @@ rtps::TransportInterface* NatUdpTransportDescriptor::create_transport() const { 
 NatUdpTransport::NatUdpTransport(const NatUdpTransportDescriptor& descriptor)
     : TransportInterface(kNatUdpLocatorKind), descriptor_(descriptor) {}
 
-NatUdpTransport::~NatUdpTransport() { shutdown(); }
+// The descriptors live as long as the transport: Fast DDS calls shutdown() before it deletes the
+// builtin protocols, whose last act is the participant's dispose announcement, sent through this
+// socket. Fast DDS drops its senders and receivers before the transport itself.
+NatUdpTransport::~NatUdpTransport() {
+  shutdown();
+  if (socket_ >= 0) ::close(socket_);
+  if (wake_ >= 0) ::close(wake_);
+}
 
 bool NatUdpTransport::init(const eprosima::fastrtps::rtps::PropertyPolicy*) {
   if (::getrandom(token_.data(), token_.size(), 0) != static_cast<ssize_t>(token_.size())) return false;
@@ -110,9 +122,6 @@ void NatUdpTransport::shutdown() {
     (void)::write(wake_, &one, sizeof one);
   }
   if (receiver_thread_.joinable()) receiver_thread_.join();
-  if (socket_ >= 0) ::close(socket_);
-  if (wake_ >= 0) ::close(wake_);
-  socket_ = wake_ = -1;
 }
 
 Locator_t NatUdpTransport::self_locator(std::uint32_t channel) const {
@@ -317,7 +326,7 @@ void NatUdpTransport::receive_loop() {
     pollfd fds[2] = {{socket_, POLLIN, 0}, {wake_, POLLIN, 0}};
     if (::poll(fds, 2, 1000) <= 0) continue;
     if (fds[1].revents != 0) break;
-    for (;;) {
+    for (int batch = 0; batch < kBatch && !stopping_.load(); ++batch) {
       sockaddr_in from{};
       socklen_t from_len = sizeof from;
       const ssize_t n = ::recvfrom(socket_, buffer.data(), buffer.size(), MSG_DONTWAIT,
@@ -341,6 +350,9 @@ void NatUdpTransport::receive_loop() {
       last_expiry_ = now;
       for (auto it = partial_.begin(); it != partial_.end();)
         it = now - it->second.first > kPartialLifetime ? partial_.erase(it) : std::next(it);
+      std::unique_lock lock(learned_mutex_);
+      for (auto it = learned_.begin(); it != learned_.end();)
+        it = now - it->second.last_heard > kForgetAfter ? learned_.erase(it) : std::next(it);
     }
   }
 }
@@ -356,10 +368,20 @@ void NatUdpTransport::reassemble(const Token& token, const sockaddr_in& from, co
   if (count < 2 || count > kMaxPieces || index >= count || len > kNatUdpFragmentPayload ||
       (index + 1 < count && len != kNatUdpFragmentPayload))
     return;
-  const auto key = std::make_pair(token, id);
+  // Keyed by the source too: nobody who knows a token can break up another sender's messages.
+  const PartialKey key{from.sin_addr.s_addr, from.sin_port, token, id};
   auto it = partial_.find(key);
   if (it == partial_.end()) {
-    if (partial_.size() >= kMaxPartials) return;  // a flood of beginnings: the rest waits for expiry
+    // Each source may have a few messages under way; a full table gives up its oldest, so a
+    // flood of beginnings from strangers cannot keep a real handshake out.
+    std::size_t mine = 0;
+    auto oldest = partial_.end();
+    for (auto p = partial_.begin(); p != partial_.end(); ++p) {
+      if (p->first.address == key.address && p->first.port == key.port) ++mine;
+      if (oldest == partial_.end() || p->second.first < oldest->second.first) oldest = p;
+    }
+    if (mine >= kMaxPartialsPerSource) return;
+    if (partial_.size() >= kMaxPartials) partial_.erase(oldest);
     Partial p;
     p.bytes.resize(count * kNatUdpFragmentPayload);
     p.have.assign(count, false);

@@ -17,9 +17,10 @@
 // snapshots all cross the NAT on the mapping the client's first datagram made.
 //
 // A token's address is taken from the first datagram that names it and changes only after that
-// address has been silent for kRebindAfter (a NAT that rebinds): a stranger who learns a token
-// cannot redirect a live client's traffic. DDS Security, when on, still authenticates and
-// encrypts everything above this layer.
+// address has been silent for kRebindAfter (a NAT that rebinds): a stranger off the client's path
+// cannot redirect a live client's traffic. The token travels in clear, so an observer on the
+// path (shared Wi-Fi) who outlasts a client's silence can: with DDS Security that denies service,
+// it cannot read or forge the match (authentication and encryption sit above this layer).
 #include <fastdds/rtps/transport/TransportDescriptorInterface.h>
 #include <fastdds/rtps/transport/TransportInterface.h>
 
@@ -162,7 +163,14 @@ class NatUdpTransport final : public eprosima::fastdds::rtps::TransportInterface
   std::map<Token, Learned> learned_;
 
   std::atomic<std::uint32_t> next_message_id_{0};
-  std::map<std::pair<Token, std::uint32_t>, Partial> partial_;
+  struct PartialKey {
+    std::uint32_t address;  // the source, network order
+    std::uint16_t port;
+    Token token;
+    std::uint32_t id;
+    auto operator<=>(const PartialKey&) const = default;
+  };
+  std::map<PartialKey, Partial> partial_;
   std::chrono::steady_clock::time_point last_expiry_{};
 };
 
