@@ -167,8 +167,7 @@ def internet_section(results):
             loss = "burst" if key.endswith("burst") else f"{float(key.split('loss')[1]) * 100:g} %"
             l, i, st = c["latency_ms"], c["interarrival_ms"], c["staleness_ms"]
             path = "UDP (NAT)" if scheme == "udp" else "TCP (NAT)"
-            late = (st["p99"] or 0) > 4 * 1000.0 / c["tick_hz"] or c["ticks_covered"] < 0.95
-            behind = " **fell behind**" if late else ""
+            behind = " **fell behind**" if c["fell_behind"] else ""  # internet_match_report.py's verdict
             out.append(f"| {path} | {rtt} ms | {loss} | {c['joined']}/{c['bots']} | {f(l['p50'])} / {f(l['p99'])} / {f(l['max'])} "
                        f"| {f(i['p99'])} / {f(i['max'])} | {f(st['p50'])} / {f(st['p99'])} / {f(st['max'])} "
                        f"| {100 * c['missed']:.2f} %{behind} | {c['snapshots_per_s']:.1f} of {c['tick_hz']} "

@@ -122,9 +122,10 @@ def main():
         expect(delay - jitter - 0.1 <= dl["min"] and dl["max"] <= delay + jitter + 0.2,
                f"{d}: delay {dl['min']:.1f}..{dl['max']:.1f} ms within {delay} +- {jitter}")
         expect(abs(dl["p50"] - delay) <= 1.5, f"{d}: delay p50 {dl['p50']:.1f} ms, asked {delay}")
-    # The round trip as a program sees it: both delays plus this host's scheduling.
-    expect(2 * (delay - jitter) <= probe["rtt_min"] and probe["rtt_p50"] <= 2 * delay + 10,
-           f"round trip min {probe['rtt_min']:.1f} ms, p50 {probe['rtt_p50']:.1f} ms for 2 x {delay} ms")
+    # The round trip as a program sees it: never shorter than both delays (how much longer is this
+    # host's scheduling, reported, not asserted).
+    expect(2 * (delay - jitter) <= probe["rtt_min"],
+           f"round trip min {probe['rtt_min']:.1f} ms (p50 {probe['rtt_p50']:.1f} ms) for 2 x {delay} +- {jitter} ms")
     expect(probe["strangers"] == [], f"nothing unsolicited came through the NAT (got {probe['strangers']})")
     nat = link["nat"]
     expect(nat["filtered"] >= 1, f"the NAT filtered the datagram from another port ({nat['filtered']})")

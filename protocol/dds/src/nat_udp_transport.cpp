@@ -11,7 +11,6 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include <cstdio>
 #include <algorithm>
 #include <cstring>
 #include <vector>
@@ -62,6 +61,17 @@ class NatUdpSender final : public eprosima::fastrtps::rtps::SenderResource {
   }
 };
 
+// A client's locator: its token, no address.
+Locator_t token_locator(const std::array<std::uint8_t, 12>& token, std::uint32_t channel) {
+  Locator_t l;
+  l.kind = kNatUdpLocatorKind;
+  l.port = channel;
+  std::memset(l.address, 0, sizeof l.address);
+  l.address[0] = kToken;
+  std::memcpy(l.address + 4, token.data(), token.size());
+  return l;
+}
+
 }  // namespace
 
 Locator_t nat_udp_direct_locator(std::uint32_t address, std::uint16_t port, std::uint32_t channel) {
@@ -102,9 +112,7 @@ bool NatUdpTransport::init(const eprosima::fastrtps::rtps::PropertyPolicy*) {
   a.sin_family = AF_INET;
   a.sin_port = htons(descriptor_.bind_port);
   a.sin_addr.s_addr = htonl(descriptor_.bind_address);
-  if (::bind(socket_, reinterpret_cast<const sockaddr*>(&a), sizeof a) != 0) {
-    std::fprintf(stderr, "throng protocol: udp: cannot bind %s:%u: %s\n", inet_ntoa(a.sin_addr), descriptor_.bind_port,
-                 std::strerror(errno));
+  if (::bind(socket_, reinterpret_cast<const sockaddr*>(&a), sizeof a) != 0) {  // create_participant said why
     ::close(socket_);
     socket_ = -1;
     return false;
@@ -127,13 +135,7 @@ void NatUdpTransport::shutdown() {
 Locator_t NatUdpTransport::self_locator(std::uint32_t channel) const {
   if (descriptor_.server())
     return nat_udp_direct_locator(descriptor_.public_address, descriptor_.public_port, channel);
-  Locator_t l;
-  l.kind = kNatUdpLocatorKind;
-  l.port = channel;
-  std::memset(l.address, 0, sizeof l.address);
-  l.address[0] = kToken;
-  std::memcpy(l.address + 4, token_.data(), token_.size());
-  return l;
+  return token_locator(token_, channel);
 }
 
 bool NatUdpTransport::IsInputChannelOpen(const Locator& locator) const {
@@ -410,18 +412,13 @@ void NatUdpTransport::deliver(const Token& token, const sockaddr_in& from, std::
   // Not an RTPS message: dropped before anything is learned from it.
   if (size < 20 || std::memcmp(data, "RTPS", 4) != 0) return;
   learn(token, from);
-  Locator_t remote;
-  remote.kind = kNatUdpLocatorKind;
-  remote.port = channel;
-  std::memset(remote.address, 0, sizeof remote.address);
-  remote.address[0] = kToken;
-  std::memcpy(remote.address + 4, token.data(), token.size());
   std::shared_lock lock(channels_mutex_);
   auto it = channels_.find(channel);
   if (it == channels_.end() && channel == kNatUdpServerDiscoveryChannel && first_channel_)
     it = channels_.find(*first_channel_);
   if (it == channels_.end()) return;  // a channel this participant does not have
-  it->second->OnDataReceived(data, static_cast<std::uint32_t>(size), self_locator(channel), remote);
+  it->second->OnDataReceived(data, static_cast<std::uint32_t>(size), self_locator(it->first),
+                             token_locator(token, channel));
 }
 
 }  // namespace throng::protocol::dds_detail

@@ -127,6 +127,19 @@ void use_tcp(dds::DomainParticipantQos& qos, const TransportOptions& o, const st
   qos.transport().use_builtin_transports = false;
 }
 
+// 0 when a UDP socket can be bound to address:port (host order) now, else the errno that says why.
+int udp_bind_error(std::uint32_t address, std::uint16_t port) {
+  const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+  if (fd < 0) return errno;
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(port);
+  a.sin_addr.s_addr = htonl(address);
+  const int error = ::bind(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a) == 0 ? 0 : errno;
+  ::close(fd);
+  return error;
+}
+
 // UDP across NAT (nat_udp_transport.h): the server binds its port and announces its public
 // address; a client binds any port and has the server as its one initial peer, on the channel
 // that reaches the server's discovery whatever its participant id.
@@ -150,15 +163,7 @@ void use_nat_udp(dds::DomainParticipantQos& qos, const TransportOptions& o, cons
                                    "(--public-address): over UDP the server announces it, players cannot learn it");
     }
     // Fast DDS refuses a transport that cannot bind without saying why: say it here.
-    const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_port = htons(udp->bind_port);
-    a.sin_addr.s_addr = htonl(udp->bind_address);
-    const bool bound = fd >= 0 && ::bind(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a) == 0;
-    const int error = errno;
-    if (fd >= 0) ::close(fd);
-    if (!bound)
+    if (const int error = udp_bind_error(udp->bind_address, udp->bind_port); error != 0)
       throw TransportError(where + "cannot listen on " + o.listen_endpoint->text() + ": " + std::strerror(error));
   }
   if (o.server_endpoint) {
@@ -170,17 +175,7 @@ void use_nat_udp(dds::DomainParticipantQos& qos, const TransportOptions& o, cons
 }
 
 // Whether a UDP port on 127.0.0.1 can be bound now (nobody on this host listens on it).
-bool udp_port_free(int port) {
-  const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
-  if (fd < 0) return false;
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_port = htons(static_cast<std::uint16_t>(port));
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  const bool ok = ::bind(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a) == 0;
-  ::close(fd);
-  return ok;
-}
+bool udp_port_free(int port) { return udp_bind_error(INADDR_LOOPBACK, static_cast<std::uint16_t>(port)) == 0; }
 
 // Participant ids, chosen here instead of by Fast DDS. Fast DDS 2.9.1 numbers a process's
 // participants from a counter that never goes down, so a long-lived process (a standby that takes

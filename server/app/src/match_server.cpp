@@ -596,13 +596,13 @@ int MatchServer::run(bool handle_signals) {
                 "participant that joined them{}",
                 m.options.allow_anonymous_operator ? ", and ANY participant may change parameters (--allow-anonymous-operator)"
                                                    : "; parameter changes are refused");
+  const bool udp_listen = m.options.listen.rfind("udp://", 0) == 0;
   spdlog::info("match {} on DDS domain {} ({}): scene '{}', {} bodies, {} Hz, up to {} clients{}", m.match.match_info().match_id,
                m.options.domain,
                !m.options.listen.empty()
-                   ? fmt::format("{}, listening on {}{}", m.options.listen.rfind("udp://", 0) == 0 ? "UDP across NAT" : "TCP",
-                                 m.options.listen,
-                                 (m.options.public_address.empty() ? "" : ", clients told " + m.options.public_address) +
-                                     (m.options.listen.rfind("udp://", 0) == 0 ? "" : "; no hot standby can follow it over TCP"))
+                   ? fmt::format("{}, listening on {}{}{}", udp_listen ? "UDP across NAT" : "TCP", m.options.listen,
+                                 m.options.public_address.empty() ? "" : ", clients told " + m.options.public_address,
+                                 udp_listen ? "" : "; no hot standby can follow it over TCP")
                    : (m.options.loopback_only ? "127.0.0.1 only" : "default network"),
                m.scene.name,
                m.match.world().pos_x().size(), m.options.match.tick_hz, m.options.match.max_clients,

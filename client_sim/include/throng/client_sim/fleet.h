@@ -31,7 +31,7 @@ namespace throng::client_sim {
 struct FleetOptions {
   int domain_id = 0;
   bool loopback_only = true;
-  std::optional<protocol::NetEndpoint> server_endpoint;  // --server tcp://HOST:PORT: DDS over TCP to it
+  std::optional<protocol::NetEndpoint> server_endpoint;  // --server udp:// or tcp://HOST:PORT: DDS to that one server
   bool participant_per_client = false;
   std::optional<protocol::SecurityFiles> security;  // DDS Security (throng-pki's bots identity); nullopt: off
   std::string behavior = "wander";  // a behavior spec (expand_behavior_spec)

@@ -80,8 +80,8 @@ class HomeNat {
   std::mt19937_64 rng_;
   std::map<PublicKey, Mapping> by_public_;
   std::map<PrivateKey, PublicKey> by_private_;
-  // Fragmented datagrams: outbound (private source, IP id) and inbound (remote source, IP id) ->
-  // the private host, remembered for a few seconds.
+  // Inbound fragmented datagrams: (remote source, IP id) -> the private host their first fragment
+  // went to, remembered for a few seconds.
   std::map<std::pair<std::uint32_t, std::uint16_t>, std::pair<std::uint32_t, Clock::time_point>> inbound_fragments_;
   Clock::time_point last_expiry_{};
   NatCounters counters_;
